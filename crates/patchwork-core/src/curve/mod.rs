@@ -1,0 +1,25 @@
+//! Target curves: reading, validation, resampling, smoothing, differential
+//! geometry (κ, τ, Frenet and Bishop frames), comparison (DTW, shape error) and
+//! preset curves.
+
+mod differential;
+mod dtw;
+mod error;
+mod frames;
+mod polyline;
+pub mod presets;
+mod read;
+mod shape_error;
+mod smoothing;
+
+pub use differential::{Analysis, AnalysisOptions, DerivativeScheme, analyse};
+pub use dtw::dtw;
+pub use error::{CurveError, Location};
+pub use frames::{Frame, bishop_frames, frenet_frames};
+pub use polyline::Curve;
+pub use presets::{Preset, ReferenceCurve};
+pub use read::{Units, read_curve, read_json, read_text};
+pub use shape_error::{ShapeError, shape_error};
+
+/// A point or vector in 3D, millimetres.
+pub type Point = nalgebra::Vector3<f64>;

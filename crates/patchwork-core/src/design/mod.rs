@@ -1,0 +1,5 @@
+//! The design schema shared by the CLI, the API and files: balloons, patches.
+
+mod patch;
+
+pub use patch::Patch;

@@ -1,0 +1,14 @@
+//! Patchwork's numerical core: target curves, the Kinematic Segmentation
+//! Algorithm (KSA), and (later) the membrane finite-element model and CMA-ES.
+//!
+//! This crate is deliberately free of async, web and database dependencies so the
+//! CLI, the HTTP service and the benchmarks all share one tested implementation.
+//!
+//! Units everywhere: millimetres, radians internally (degrees only at the JSON
+//! boundary, named `*_deg`), curvature and torsion in mm⁻¹.
+
+pub mod curve;
+pub mod design;
+pub mod ksa;
+
+pub use curve::{Curve, CurveError, Point};
