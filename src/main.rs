@@ -1,1 +1,18 @@
-fn main() {}
+//! `patchwork`: the command-line interface (and, later, the HTTP service).
+//! Thin by design: parse arguments, call the core, print.
+
+mod cli;
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    cli::install_panic_hook();
+    match cli::run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            // One line naming the problem; the full cause chain joined by ": ".
+            eprintln!("error: {error:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

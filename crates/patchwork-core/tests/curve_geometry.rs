@@ -7,6 +7,7 @@ use patchwork_core::curve::{
     frenet_frames,
 };
 use proptest::prelude::*;
+use std::f64::consts::PI;
 
 fn helix_closed_form(a: f64, pitch: f64) -> (f64, f64) {
     let b = pitch / std::f64::consts::TAU;
@@ -148,8 +149,7 @@ fn assert_orthonormal(t: Point, u: Point, v: Point) {
 }
 
 fn random_rotation() -> impl Strategy<Value = Rotation3<f64>> {
-    (-3.14f64..3.14, -1.5f64..1.5, -3.14f64..3.14)
-        .prop_map(|(r, p, y)| Rotation3::from_euler_angles(r, p, y))
+    (-PI..PI, -1.5f64..1.5, -PI..PI).prop_map(|(r, p, y)| Rotation3::from_euler_angles(r, p, y))
 }
 
 fn random_curve() -> impl Strategy<Value = Curve> {

@@ -134,7 +134,7 @@ fn seven_point_derivatives(s: &[f64], points: &[Point]) -> Vec<[Point; 3]> {
             let start = i.saturating_sub(width / 2).min(n - width);
             let weights = fornberg_weights(s[i], &s[start..start + width]);
             let mut d = [Point::zeros(); 3];
-            for (j, w) in weights.iter().enumerate() {
+            for (j, w) in weights.iter().take(width).enumerate() {
                 let p = points[start + j];
                 d[0] += w[1] * p;
                 d[1] += w[2] * p;
@@ -167,10 +167,11 @@ fn index_gradient(values: &[Point]) -> Vec<Point> {
 
 /// Fornberg's weights for derivatives 0..=3 at `at` from values at `nodes`:
 /// `f⁽ᵏ⁾(at) ≈ Σⱼ w[j][k] f(nodes[j])`. Nodes must be distinct.
-fn fornberg_weights(at: f64, nodes: &[f64]) -> Vec<[f64; 4]> {
+/// At most [`STENCIL`] nodes; the table lives on the stack (this runs per sample).
+fn fornberg_weights(at: f64, nodes: &[f64]) -> [[f64; 4]; STENCIL] {
     const M: usize = 3;
     let n = nodes.len();
-    let mut c = vec![[0.0; M + 1]; n];
+    let mut c = [[0.0; M + 1]; STENCIL];
     c[0][0] = 1.0;
     let mut c1 = 1.0;
     let mut c4 = nodes[0] - at;

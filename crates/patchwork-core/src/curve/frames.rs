@@ -26,7 +26,7 @@ pub fn frenet_frames(analysis: &Analysis) -> (Vec<Frame>, Vec<bool>) {
     let bishop = bishop_frames(analysis);
     let mut frames = Vec::with_capacity(analysis.len());
     let mut carried: Option<Point> = None;
-    for i in 0..analysis.len() {
+    for (i, bishop_frame) in bishop.iter().enumerate() {
         let t = analysis.tangent[i];
         let normal = if analysis.torsion_defined[i] {
             analysis.binormal[i].cross(&t)
@@ -35,7 +35,7 @@ pub fn frenet_frames(analysis: &Analysis) -> (Vec<Frame>, Vec<bool>) {
                 .map(|n| n - t * t.dot(&n))
                 .filter(|n| n.norm() > 1e-8)
                 .map(|n| n.normalize())
-                .unwrap_or(bishop[i].first)
+                .unwrap_or(bishop_frame.first)
         };
         carried = Some(normal);
         frames.push(Frame {

@@ -72,8 +72,8 @@ pub fn read_text(input: &str, units: Units) -> Result<Curve, CurveError> {
         let fields = split_fields(content);
         let first_content = !seen_content;
         seen_content = true;
-        if first_content && fields.iter().all(|f| f.parse::<f64>().is_err()) {
-            continue; // a header such as `x,y,z`
+        if first_content && fields.iter().all(|f| looks_like_column_name(f)) {
+            continue; // a header such as `x,y,z` or `X (mm)	Y (mm)	Z (mm)`
         }
         if points.len() >= Curve::MAX_POINTS {
             return Err(CurveError::TooManyPoints {
@@ -99,6 +99,14 @@ pub fn read_text(input: &str, units: Units) -> Result<Curve, CurveError> {
         lines.push(line_no);
     }
     Curve::from_located_points(points, |i| Location::Line(lines[i]))
+}
+
+/// A header field names a column: it has a letter, is not itself a number
+/// (`nan`, `inf` are numbers here), and holds no control characters (binary junk).
+fn looks_like_column_name(field: &str) -> bool {
+    field.parse::<f64>().is_err()
+        && field.chars().any(char::is_alphabetic)
+        && !field.chars().any(char::is_control)
 }
 
 fn split_fields(content: &str) -> Vec<&str> {

@@ -1,0 +1,45 @@
+//! Reading a target curve named on the command line (`-` for stdin).
+
+use std::io::Read;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use patchwork_core::curve::{Curve, Units, read_curve};
+
+/// Options shared by every command that reads a target curve.
+#[derive(Args)]
+pub struct CurveInput {
+    /// Target curve: CSV/whitespace text (`x y z` per line) or JSON
+    /// (`{"points": [[x,y,z], ...], "units": "mm"}`); `-` reads stdin.
+    pub file: String,
+    /// Units of the file's coordinates (JSON's own `units` field wins).
+    #[arg(long, default_value = "mm", value_parser = parse_units)]
+    pub units: Units,
+    /// Gaussian smoothing along arc length, standard deviation in mm (0 = off).
+    /// For hand-drawn curves, about ten point spacings.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub smooth_mm: f64,
+}
+
+fn parse_units(text: &str) -> Result<Units, String> {
+    text.parse()
+        .map_err(|e: patchwork_core::CurveError| e.to_string())
+}
+
+impl CurveInput {
+    pub fn load(&self) -> Result<Curve> {
+        let text = if self.file == "-" {
+            let mut text = String::new();
+            std::io::stdin()
+                .read_to_string(&mut text)
+                .context("reading the curve from stdin")?;
+            text
+        } else {
+            std::fs::read_to_string(Path::new(&self.file))
+                .with_context(|| format!("cannot read {}", self.file))?
+        };
+        let curve = read_curve(&text, self.units).with_context(|| self.file.clone())?;
+        Ok(curve.smoothed(self.smooth_mm)?)
+    }
+}

@@ -1,0 +1,80 @@
+//! Command-line contract. Scripts depend on these names: change with care.
+
+mod curve_cmd;
+mod input;
+mod ksa_cmd;
+mod output;
+mod preset_cmd;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "patchwork",
+    version,
+    about = "Inverse design of patch-clad cylindrical inflatables",
+    long_about = "Patchwork takes the 3D centreline a lab wants an inflated latex balloon to \
+                  follow and works out where to glue strain-limiting patches."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Analyse a target curve: length, point count, curvature and torsion.
+    Curve(curve_cmd::CurveArgs),
+    /// Kinematic Segmentation Algorithm: a first guess at the patches.
+    Ksa(ksa_cmd::KsaArgs),
+    /// Write a preset curve as CSV to stdout (`patchwork preset list` for names).
+    Preset(preset_cmd::PresetArgs),
+}
+
+pub fn run() -> Result<()> {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => return handle_clap_error(error),
+    };
+    match cli.command {
+        Command::Curve(args) => curve_cmd::run(args),
+        Command::Ksa(args) => ksa_cmd::run(args),
+        Command::Preset(args) => preset_cmd::run(args),
+    }
+}
+
+/// Help and version go to stdout with success; a usage error becomes one line.
+fn handle_clap_error(error: clap::Error) -> Result<()> {
+    use clap::error::ErrorKind;
+    match error.kind() {
+        ErrorKind::DisplayHelp
+        | ErrorKind::DisplayVersion
+        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            output::emit(&error.render().to_string())?;
+            Ok(())
+        }
+        _ => {
+            let rendered = error.render().to_string();
+            let first = rendered
+                .lines()
+                .next()
+                .unwrap_or("invalid arguments")
+                .trim_start_matches("error: ");
+            anyhow::bail!("{first} (see `patchwork --help`)")
+        }
+    }
+}
+
+/// A panic is a bug, never the user's fault: say so in one line, no backtrace.
+pub fn install_panic_hook() {
+    std::panic::set_hook(Box::new(|info| {
+        let location = info
+            .location()
+            .map(|l| format!(" at {}:{}", l.file(), l.line()))
+            .unwrap_or_default();
+        eprintln!(
+            "error: internal error{location}; please report it with the input that caused it"
+        );
+    }));
+}

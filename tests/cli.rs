@@ -1,0 +1,254 @@
+//! Black-box tests of the command-line contract: the real binary, real files.
+
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+use serde_json::Value;
+
+const HILBERT: &str = "crates/patchwork-core/data/curves/hilbert_curve.csv";
+
+fn patchwork(args: &[&str]) -> Output {
+    patchwork_with_stdin(args, "")
+}
+
+fn patchwork_with_stdin(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_patchwork"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("binary runs");
+    // A command that fails before reading stdin closes the pipe: that is fine.
+    let _ = child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(stdin.as_bytes());
+    child.wait_with_output().expect("binary finishes")
+}
+
+fn json(output: &Output) -> Value {
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    serde_json::from_slice(&output.stdout).expect("stdout is JSON")
+}
+
+/// A user error: non-zero exit, exactly one line on stderr naming `needle`,
+/// nothing on stdout, no panic.
+fn assert_one_line_error(output: &Output, needle: &str) {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        !output.status.success(),
+        "expected failure, stderr: {stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "not one line: {stderr}");
+    assert!(stderr.starts_with("error: "), "{stderr}");
+    assert!(
+        stderr.contains(needle),
+        "{stderr:?} does not mention {needle:?}"
+    );
+    assert!(!stderr.contains("panicked") && !stderr.contains("internal error"));
+    assert!(output.stdout.is_empty());
+}
+
+#[test]
+fn curve_json_has_the_contract_fields() {
+    let report = json(&patchwork(&["curve", HILBERT, "--json"]));
+    assert!((report["length_mm"].as_f64().unwrap() - 899.05).abs() < 0.01);
+    assert_eq!(report["points"], 200);
+    for key in ["s_mm", "curvature_per_mm", "torsion_per_mm"] {
+        let values = report[key].as_array().unwrap();
+        assert_eq!(values.len(), 200, "{key}");
+        assert!(
+            values
+                .iter()
+                .all(|v| v.as_f64().is_some_and(f64::is_finite))
+        );
+    }
+}
+
+#[test]
+fn curve_summary_is_human_readable() {
+    let output = patchwork(&["curve", HILBERT]);
+    let text = String::from_utf8(output.stdout).unwrap();
+    assert!(text.contains("length      899.05 mm"), "{text}");
+    assert!(text.contains("points      200"));
+}
+
+#[test]
+fn ksa_json_reproduces_the_reference_and_has_the_contract_fields() {
+    let report = json(&patchwork(&["ksa", HILBERT, "--json"]));
+    assert!((report["stretch"].as_f64().unwrap() - 3.079).abs() < 1e-3);
+    let patches = report["patches"].as_array().unwrap();
+    assert_eq!(patches.len(), 6);
+    let centres = [43.3, 87.9, 128.2, 163.9, 204.8, 248.8];
+    for (patch, centre) in patches.iter().zip(centres) {
+        for key in ["x_mm", "y_mm", "h_mm", "w_mm", "theta_deg"] {
+            assert!(patch[key].as_f64().is_some(), "{key} missing");
+        }
+        assert!((patch["y_mm"].as_f64().unwrap() - centre).abs() < 1.5);
+    }
+}
+
+#[test]
+fn ksa_options_change_the_answer() {
+    let report = json(&patchwork(&[
+        "ksa",
+        HILBERT,
+        "--json",
+        "--l0-mm",
+        "400",
+        "--width-mm",
+        "2.5",
+        "--stretch",
+        "2",
+    ]));
+    assert_eq!(report["stretch"], 2.0);
+    assert!((report["uninflated_length_to_cut_mm"].as_f64().unwrap() - 899.05 / 2.0).abs() < 0.01);
+    let first = &report["patches"][0];
+    assert_eq!(first["w_mm"], 2.5);
+    assert!((first["y_mm"].as_f64().unwrap() - 133.25 / 2.0).abs() < 1.0);
+}
+
+#[test]
+fn preset_pipes_into_curve_and_ksa() {
+    let csv = patchwork(&[
+        "preset",
+        "helix",
+        "radius_mm=25",
+        "pitch_mm=80",
+        "turns=3",
+        "--points",
+        "300",
+    ]);
+    assert!(csv.status.success());
+    let csv = String::from_utf8(csv.stdout).unwrap();
+    assert_eq!(csv.lines().count(), 301, "header plus 300 points");
+    let report = json(&patchwork_with_stdin(&["curve", "-", "--json"], &csv));
+    let b = 80.0 / std::f64::consts::TAU;
+    let kappa = 25.0 / (625.0 + b * b);
+    let mid = report["curvature_per_mm"][150].as_f64().unwrap();
+    assert!((mid - kappa).abs() / kappa < 1e-3);
+    let ksa = json(&patchwork_with_stdin(&["ksa", "-", "--json"], &csv));
+    assert_eq!(ksa["patches"].as_array().unwrap().len(), 1);
+}
+
+#[test]
+fn every_preset_generates_and_reference_curves_are_published_ones() {
+    for name in ["helix", "hilbert", "saddle", "trefoil", "arc", "line"] {
+        assert!(patchwork(&["preset", name]).status.success(), "{name}");
+    }
+    let spring = patchwork(&["preset", "reference", "name=spring"]);
+    assert_eq!(
+        String::from_utf8(spring.stdout).unwrap().lines().count(),
+        65
+    );
+    let list = String::from_utf8(patchwork(&["preset", "list"]).stdout).unwrap();
+    assert!(list.contains("helix") && list.contains("radius_mm"));
+}
+
+#[test]
+fn json_curve_input_with_units() {
+    let input = r#"{"points": [[0,0,0],[0.1,0,0],[0.2,0.01,0],[0.3,0.03,0.01]], "units": "m"}"#;
+    let report = json(&patchwork_with_stdin(&["curve", "-", "--json"], input));
+    assert!(report["length_mm"].as_f64().unwrap() > 300.0);
+}
+
+#[test]
+fn bad_input_gets_one_line_naming_the_problem() {
+    let cases: &[(&str, &[&str], &str)] = &[
+        (
+            "0,0,0\n1,0,0\n2,0,0\n3,nan,0\n",
+            &["curve", "-"],
+            "line 4: coordinate y is not finite",
+        ),
+        (
+            "0,0,0\n1,0,0\n2,0\n3,0,0\n",
+            &["curve", "-"],
+            "line 3: expected 3 columns",
+        ),
+        ("0,0,0\n1,0,0\n2,0,0\n", &["ksa", "-"], "at least 4"),
+        (
+            "1,1,1\n1,1,1\n1,1,1\n1,1,1\n",
+            &["curve", "-"],
+            "zero total length",
+        ),
+        (
+            "0,0,0\n1,x,0\n2,0,0\n3,0,0\n",
+            &["curve", "-"],
+            "line 2: column 2 is not a number",
+        ),
+        (
+            r#"{"points": [[0,0,0],[1,0,0],[2,0],[3,0,0]]}"#,
+            &["curve", "-"],
+            "points[2]",
+        ),
+        (
+            r#"{"points": [[0,0,0]], "units": "ly"}"#,
+            &["curve", "-"],
+            "unknown units",
+        ),
+        (r#"{"points": "#, &["curve", "-"], "invalid curve JSON"),
+        ("", &["curve", "-"], "at least 4"),
+        ("\u{0}\u{1}binary\u{7f}", &["curve", "-"], "line 1"),
+    ];
+    for (stdin, args, needle) in cases {
+        assert_one_line_error(&patchwork_with_stdin(args, stdin), needle);
+    }
+}
+
+#[test]
+fn too_many_points_is_refused() {
+    let big: String = (0..100_001).map(|i| format!("{i},0,0\n")).collect();
+    assert_one_line_error(
+        &patchwork_with_stdin(&["curve", "-"], &big),
+        "at most 100000",
+    );
+}
+
+#[test]
+fn bad_options_get_one_line_naming_the_option() {
+    assert_one_line_error(&patchwork(&["ksa", HILBERT, "--l0-mm", "-3"]), "l0_mm");
+    assert_one_line_error(&patchwork(&["ksa", HILBERT, "--r0-mm", "nan"]), "r0_mm");
+    assert_one_line_error(
+        &patchwork(&["ksa", HILBERT, "--stretch", "lots"]),
+        "--stretch",
+    );
+    assert_one_line_error(
+        &patchwork(&["ksa", HILBERT, "--kappa-tol", "abc"]),
+        "kappa-tol",
+    );
+    assert_one_line_error(
+        &patchwork(&["curve", HILBERT, "--units", "furlong"]),
+        "furlong",
+    );
+    assert_one_line_error(
+        &patchwork(&["curve", HILBERT, "--smooth-mm", "-1"]),
+        "smoothing",
+    );
+    assert_one_line_error(
+        &patchwork(&["curve", "does/not/exist.csv"]),
+        "does/not/exist.csv",
+    );
+    assert_one_line_error(&patchwork(&["preset", "spiral"]), "unknown preset");
+    assert_one_line_error(
+        &patchwork(&["preset", "helix", "radius_mm=-2"]),
+        "radius_mm",
+    );
+    assert_one_line_error(&patchwork(&["preset", "helix", "radius=2"]), "radius");
+    assert_one_line_error(&patchwork(&["preset", "helix", "radius_mm"]), "KEY=VALUE");
+    assert_one_line_error(&patchwork(&["preset", "line", "--points", "2"]), "resample");
+    assert_one_line_error(&patchwork(&["frobnicate"]), "frobnicate");
+}
+
+#[test]
+fn help_succeeds() {
+    let output = patchwork(&["--help"]);
+    assert!(output.status.success());
+    assert!(String::from_utf8_lossy(&output.stdout).contains("ksa"));
+}
