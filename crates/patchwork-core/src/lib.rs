@@ -10,5 +10,6 @@
 pub mod curve;
 pub mod design;
 pub mod ksa;
+pub mod material;
 
 pub use curve::{Curve, CurveError, Point};

@@ -1,0 +1,210 @@
+//! A second-order forward-mode automatic-differentiation number in three
+//! variables: value, gradient and (symmetric) Hessian carried together.
+//!
+//! Materials write their strain energy once, generically, as a function of the
+//! in-plane right Cauchy–Green components (c₁₁, c₂₂, c₁₂); evaluating it on
+//! `Hyper` numbers yields the exact stress (gradient) and tangent (Hessian), so
+//! energy, stress and tangent can never disagree. Finite-difference tests check
+//! them all the same.
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hyper {
+    pub value: f64,
+    pub gradient: [f64; 3],
+    pub hessian: [[f64; 3]; 3],
+}
+
+impl Hyper {
+    pub fn constant(value: f64) -> Self {
+        Hyper {
+            value,
+            gradient: [0.0; 3],
+            hessian: [[0.0; 3]; 3],
+        }
+    }
+
+    /// The `index`-th independent variable with the given value.
+    pub fn variable(value: f64, index: usize) -> Self {
+        let mut h = Hyper::constant(value);
+        h.gradient[index] = 1.0;
+        h
+    }
+
+    /// g(self) given g, g′, g″ at self.value (the chain rule to second order).
+    fn chain(self, g: f64, dg: f64, d2g: f64) -> Self {
+        let mut out = Hyper::constant(g);
+        for i in 0..3 {
+            out.gradient[i] = dg * self.gradient[i];
+            for j in 0..3 {
+                out.hessian[i][j] =
+                    dg * self.hessian[i][j] + d2g * self.gradient[i] * self.gradient[j];
+            }
+        }
+        out
+    }
+
+    pub fn ln(self) -> Self {
+        let x = self.value;
+        self.chain(x.ln(), 1.0 / x, -1.0 / (x * x))
+    }
+
+    pub fn exp(self) -> Self {
+        let e = self.value.exp();
+        self.chain(e, e, e)
+    }
+
+    pub fn sqrt(self) -> Self {
+        let s = self.value.sqrt();
+        self.chain(s, 0.5 / s, -0.25 / (s * self.value))
+    }
+
+    pub fn powf(self, p: f64) -> Self {
+        let x = self.value;
+        self.chain(
+            x.powf(p),
+            p * x.powf(p - 1.0),
+            p * (p - 1.0) * x.powf(p - 2.0),
+        )
+    }
+
+    pub fn powi(self, n: i32) -> Self {
+        let x = self.value;
+        let nf = n as f64;
+        self.chain(
+            x.powi(n),
+            nf * x.powi(n - 1),
+            nf * (nf - 1.0) * x.powi(n - 2),
+        )
+    }
+}
+
+impl Add for Hyper {
+    type Output = Hyper;
+    fn add(mut self, o: Hyper) -> Hyper {
+        self.value += o.value;
+        for i in 0..3 {
+            self.gradient[i] += o.gradient[i];
+            for j in 0..3 {
+                self.hessian[i][j] += o.hessian[i][j];
+            }
+        }
+        self
+    }
+}
+
+impl Neg for Hyper {
+    type Output = Hyper;
+    fn neg(self) -> Hyper {
+        self * -1.0
+    }
+}
+
+impl Sub for Hyper {
+    type Output = Hyper;
+    fn sub(self, o: Hyper) -> Hyper {
+        self + (-o)
+    }
+}
+
+impl Mul for Hyper {
+    type Output = Hyper;
+    fn mul(self, o: Hyper) -> Hyper {
+        let mut out = Hyper::constant(self.value * o.value);
+        for i in 0..3 {
+            out.gradient[i] = self.gradient[i] * o.value + self.value * o.gradient[i];
+            for j in 0..3 {
+                out.hessian[i][j] = self.hessian[i][j] * o.value
+                    + self.value * o.hessian[i][j]
+                    + self.gradient[i] * o.gradient[j]
+                    + self.gradient[j] * o.gradient[i];
+            }
+        }
+        out
+    }
+}
+
+impl Div for Hyper {
+    type Output = Hyper;
+    fn div(self, o: Hyper) -> Hyper {
+        let x = o.value;
+        self * o.chain(1.0 / x, -1.0 / (x * x), 2.0 / (x * x * x))
+    }
+}
+
+impl Add<f64> for Hyper {
+    type Output = Hyper;
+    fn add(mut self, c: f64) -> Hyper {
+        self.value += c;
+        self
+    }
+}
+
+impl Sub<f64> for Hyper {
+    type Output = Hyper;
+    fn sub(self, c: f64) -> Hyper {
+        self + (-c)
+    }
+}
+
+impl Mul<f64> for Hyper {
+    type Output = Hyper;
+    fn mul(mut self, c: f64) -> Hyper {
+        self.value *= c;
+        for i in 0..3 {
+            self.gradient[i] *= c;
+            for j in 0..3 {
+                self.hessian[i][j] *= c;
+            }
+        }
+        self
+    }
+}
+
+impl Div<f64> for Hyper {
+    type Output = Hyper;
+    fn div(self, c: f64) -> Hyper {
+        self * (1.0 / c)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn derivatives_of_a_composite_match_finite_differences() {
+        let f = |x: [Hyper; 3]| {
+            (x[0] * x[1] + x[2].exp()).ln() / x[1].sqrt() + x[0].powf(1.7) - x[2].powi(3)
+        };
+        let at = [1.3, 0.7, 0.4];
+        let v = f([
+            Hyper::variable(at[0], 0),
+            Hyper::variable(at[1], 1),
+            Hyper::variable(at[2], 2),
+        ]);
+        let scalar = |p: [f64; 3]| f(p.map(Hyper::constant)).value;
+        let h = 1e-5;
+        for i in 0..3 {
+            let mut a = at;
+            let mut b = at;
+            a[i] += h;
+            b[i] -= h;
+            let fd = (scalar(a) - scalar(b)) / (2.0 * h);
+            assert!((fd - v.gradient[i]).abs() < 1e-8, "grad {i}");
+            for j in 0..3 {
+                let grad_at = |p: [f64; 3]| {
+                    f([
+                        Hyper::variable(p[0], 0),
+                        Hyper::variable(p[1], 1),
+                        Hyper::variable(p[2], 2),
+                    ])
+                    .gradient[j]
+                };
+                let fd2 = (grad_at(a) - grad_at(b)) / (2.0 * h);
+                assert!((fd2 - v.hessian[i][j]).abs() < 1e-6, "hess {i}{j}");
+            }
+        }
+    }
+}

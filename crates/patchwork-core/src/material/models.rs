@@ -1,0 +1,158 @@
+//! The strain-energy formulas (see the variants of [`Material`] for each W).
+
+use super::{Hyper, Material, MaterialError};
+
+/// Arruda–Boyce series coefficients αᵢ (ABAQUS Theory Manual, eight-chain model).
+const ARRUDA_BOYCE: [f64; 5] = [
+    0.5,
+    1.0 / 20.0,
+    11.0 / 1050.0,
+    19.0 / 7000.0,
+    519.0 / 673_750.0,
+];
+
+/// Below this relative eigenvalue gap, Ogden's symmetric function of the two
+/// in-plane eigenvalues is evaluated by its Taylor series: the closed form
+/// divides by √q, which is singular at equal stretches (the reference state).
+const OGDEN_SERIES_GAP: f64 = 1e-6;
+
+/// W(C), or `None` outside the physical domain.
+pub(super) fn energy(material: &Material, c: [Hyper; 3]) -> Option<Hyper> {
+    let [c11, c22, c12] = c;
+    let j = c11 * c22 - c12 * c12;
+    if !(j.value > 0.0 && c11.value > 0.0 && c22.value > 0.0) {
+        return None;
+    }
+    let trace = c11 + c22;
+    let i1 = trace + Hyper::constant(1.0) / j;
+    match material {
+        Material::NeoHookean { mu_mpa } => Some((i1 - 3.0) * (0.5 * mu_mpa)),
+        Material::MooneyRivlin { c10_mpa, c01_mpa } => {
+            let i2 = j + trace / j;
+            Some((i1 - 3.0) * *c10_mpa + (i2 - 3.0) * *c01_mpa)
+        }
+        Material::Gent { mu_mpa, jm } => {
+            let argument = Hyper::constant(1.0) - (i1 - 3.0) / *jm;
+            (argument.value > 0.0).then(|| argument.ln() * (-0.5 * mu_mpa * jm))
+        }
+        Material::ArrudaBoyce { mu_mpa, lambda_m } => {
+            let mut w = Hyper::constant(0.0);
+            for (k, alpha) in ARRUDA_BOYCE.iter().enumerate() {
+                let i = k as i32 + 1;
+                let scale = alpha / lambda_m.powi(2 * i - 2);
+                w = w + (i1.powi(i) - 3f64.powi(i)) * scale;
+            }
+            Some(w * *mu_mpa)
+        }
+        Material::Ogden { mu_mpa, alpha } => {
+            let half_trace = trace * 0.5;
+            let half_gap = (c11 - c22) * 0.5;
+            let q = half_gap * half_gap + c12 * c12;
+            let mut w = Hyper::constant(0.0);
+            for (mu, a) in mu_mpa.iter().zip(alpha) {
+                let p = a / 2.0;
+                let in_plane = symmetric_power_sum(half_trace, q, p);
+                let thickness = j.powf(-p);
+                w = w + (in_plane + thickness - 3.0) * (mu / a);
+            }
+            Some(w)
+        }
+    }
+}
+
+/// e₁ᵖ + e₂ᵖ for the eigenvalues e = m ± √q of a symmetric 2×2 matrix, smooth
+/// through q = 0: there f(m+d) + f(m−d) = 2f(m) + f″(m) q + f⁗(m) q²/12 + O(q³).
+fn symmetric_power_sum(m: Hyper, q: Hyper, p: f64) -> Hyper {
+    if q.value > OGDEN_SERIES_GAP * OGDEN_SERIES_GAP * m.value * m.value {
+        let d = q.sqrt();
+        (m + d).powf(p) + (m - d).powf(p)
+    } else {
+        let f2 = p * (p - 1.0);
+        let f4 = f2 * (p - 2.0) * (p - 3.0);
+        m.powf(p) * 2.0 + m.powf(p - 2.0) * q * f2 + m.powf(p - 4.0) * q * q * (f4 / 12.0)
+    }
+}
+
+pub(super) fn shear_modulus(material: &Material) -> f64 {
+    match material {
+        Material::NeoHookean { mu_mpa } => *mu_mpa,
+        Material::MooneyRivlin { c10_mpa, c01_mpa } => 2.0 * (c10_mpa + c01_mpa),
+        Material::Gent { mu_mpa, .. } => *mu_mpa,
+        Material::ArrudaBoyce { mu_mpa, lambda_m } => {
+            // μ₀ = 2 ∂W/∂I₁ at I₁ = 3.
+            let series: f64 = ARRUDA_BOYCE
+                .iter()
+                .enumerate()
+                .map(|(k, a)| {
+                    let i = k as i32 + 1;
+                    a * i as f64 * 3f64.powi(i - 1) / lambda_m.powi(2 * i - 2)
+                })
+                .sum();
+            2.0 * mu_mpa * series
+        }
+        Material::Ogden { mu_mpa, alpha } => {
+            0.5 * mu_mpa.iter().zip(alpha).map(|(m, a)| m * a).sum::<f64>()
+        }
+    }
+}
+
+pub(super) fn validate(material: &Material) -> Result<(), MaterialError> {
+    let model = material.model_name();
+    let fail = |field, value, reason| {
+        Err(MaterialError {
+            model,
+            field,
+            value,
+            reason,
+        })
+    };
+    let positive = |field: &'static str, value: f64| {
+        if value.is_finite() && value > 0.0 {
+            Ok(())
+        } else {
+            fail(field, value, "must be finite and positive")
+        }
+    };
+    match material {
+        Material::NeoHookean { mu_mpa } => positive("mu_mpa", *mu_mpa),
+        Material::MooneyRivlin { c10_mpa, c01_mpa } => {
+            positive("c10_mpa", *c10_mpa)?;
+            if !(c01_mpa.is_finite() && *c01_mpa >= 0.0) {
+                return fail("c01_mpa", *c01_mpa, "must be finite and non-negative");
+            }
+            Ok(())
+        }
+        Material::Gent { mu_mpa, jm } => {
+            positive("mu_mpa", *mu_mpa)?;
+            positive("jm", *jm)
+        }
+        Material::ArrudaBoyce { mu_mpa, lambda_m } => {
+            positive("mu_mpa", *mu_mpa)?;
+            if !(lambda_m.is_finite() && *lambda_m > 1.0) {
+                return fail("lambda_m", *lambda_m, "must be finite and greater than 1");
+            }
+            Ok(())
+        }
+        Material::Ogden { mu_mpa, alpha } => {
+            if mu_mpa.is_empty() || mu_mpa.len() != alpha.len() || mu_mpa.len() > 6 {
+                return fail(
+                    "alpha",
+                    alpha.len() as f64,
+                    "mu_mpa and alpha need the same number (1 to 6) of terms",
+                );
+            }
+            for (m, a) in mu_mpa.iter().zip(alpha) {
+                if !m.is_finite() || *m == 0.0 {
+                    return fail("mu_mpa", *m, "each term must be finite and non-zero");
+                }
+                if !a.is_finite() || *a == 0.0 {
+                    return fail("alpha", *a, "each term must be finite and non-zero");
+                }
+                if m * a <= 0.0 {
+                    return fail("mu_mpa", *m, "each μₚαₚ must be positive (stability)");
+                }
+            }
+            Ok(())
+        }
+    }
+}
