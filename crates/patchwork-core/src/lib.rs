@@ -9,6 +9,7 @@
 
 pub mod curve;
 pub mod design;
+pub mod fe;
 pub mod ksa;
 pub mod material;
 

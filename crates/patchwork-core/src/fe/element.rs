@@ -1,0 +1,145 @@
+//! Constant-strain membrane triangle.
+//!
+//! Reference triangle in its own plane with orthonormal axes (e₁ along the hoop
+//! direction, e₂ = n × e₁), linear shape functions Nₐ with constant gradients
+//! ∇Nₐ. Deformed positions xₐ give the two convected tangents
+//! F₁ = Σ xₐ ∂Nₐ/∂ξ₁, F₂ = Σ xₐ ∂Nₐ/∂ξ₂ and C = [[F₁·F₁, F₁·F₂], [F₁·F₂, F₂·F₂]].
+//!
+//! Energy  Π_e = A₀ Σ_layers t W(C).
+//! Force   fₐ = A₀ Σₖ gₖ ∂cₖ/∂xₐ with ∂c₁₁/∂xₐ = 2Nₐ,₁F₁, ∂c₂₂/∂xₐ = 2Nₐ,₂F₂,
+//!         ∂c₁₂/∂xₐ = Nₐ,₁F₂ + Nₐ,₂F₁ (g = t·∂W/∂c summed over layers).
+//! Tangent Kₐᵦ = A₀ [Σₖₗ Hₖₗ ∂cₖ/∂xₐ ⊗ ∂cₗ/∂xᵦ
+//!               + (2g₁₁Nₐ,₁Nᵦ,₁ + 2g₂₂Nₐ,₂Nᵦ,₂ + g₁₂(Nₐ,₁Nᵦ,₂ + Nₐ,₂Nᵦ,₁)) I].
+
+use nalgebra::{Matrix3, SMatrix};
+
+use crate::curve::Point;
+use crate::material::Material;
+
+/// One material layer of an element: which material, and its thickness times
+/// the fraction of the element it covers (mm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Layer {
+    pub material: usize,
+    pub thickness: f64,
+}
+
+/// Geometry of a reference triangle, computed once.
+#[derive(Debug, Clone)]
+pub struct Triangle {
+    pub nodes: [usize; 3],
+    pub area: f64,
+    /// ∇Nₐ in the local frame: `grad[a] = [∂Nₐ/∂ξ₁, ∂Nₐ/∂ξ₂]`.
+    pub grad: [[f64; 2]; 3],
+}
+
+impl Triangle {
+    /// `hoop` is the hoop direction near the triangle (its projection onto the
+    /// triangle's plane becomes ξ₁).
+    pub fn new(nodes: [usize; 3], x: [Point; 3], hoop: Point) -> Triangle {
+        let normal = (x[1] - x[0]).cross(&(x[2] - x[0])).normalize();
+        let e1 = (hoop - normal * normal.dot(&hoop)).normalize();
+        let e2 = normal.cross(&e1);
+        let local: Vec<[f64; 2]> = x
+            .iter()
+            .map(|p| [(p - x[0]).dot(&e1), (p - x[0]).dot(&e2)])
+            .collect();
+        let [(x0, y0), (x1, y1), (x2, y2)] = [0, 1, 2].map(|a| (local[a][0], local[a][1]));
+        let twice = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+        let grad = [
+            [(y1 - y2) / twice, (x2 - x1) / twice],
+            [(y2 - y0) / twice, (x0 - x2) / twice],
+            [(y0 - y1) / twice, (x1 - x0) / twice],
+        ];
+        Triangle {
+            nodes,
+            area: 0.5 * twice,
+            grad,
+        }
+    }
+
+    /// Convected tangents F₁, F₂ at deformed positions `x`.
+    pub fn tangents(&self, x: &[Point; 3]) -> (Point, Point) {
+        let mut f1 = Point::zeros();
+        let mut f2 = Point::zeros();
+        for (xa, grad) in x.iter().zip(&self.grad) {
+            f1 += xa * grad[0];
+            f2 += xa * grad[1];
+        }
+        (f1, f2)
+    }
+
+    /// C = FᵀF as (c₁₁, c₂₂, c₁₂).
+    pub fn cauchy_green(&self, x: &[Point; 3]) -> [f64; 3] {
+        let (f1, f2) = self.tangents(x);
+        [f1.dot(&f1), f2.dot(&f2), f1.dot(&f2)]
+    }
+
+    /// Energy only; +∞ when any layer is outside its domain.
+    pub fn energy(&self, x: &[Point; 3], layers: &[Layer], materials: &[Material]) -> f64 {
+        let c = self.cauchy_green(x);
+        let mut w = 0.0;
+        for layer in layers {
+            w += layer.thickness * materials[layer.material].energy(c);
+        }
+        self.area * w
+    }
+
+    /// Energy, nodal forces (3×3: node a's force is column a) and the 9×9
+    /// tangent. `None` when outside the material domain.
+    pub fn evaluate(
+        &self,
+        x: &[Point; 3],
+        layers: &[Layer],
+        materials: &[Material],
+    ) -> Option<(f64, Matrix3<f64>, SMatrix<f64, 9, 9>)> {
+        let (f1, f2) = self.tangents(x);
+        let c = [f1.dot(&f1), f2.dot(&f2), f1.dot(&f2)];
+        let mut w = 0.0;
+        let mut g = [0.0; 3];
+        let mut h = [[0.0; 3]; 3];
+        for layer in layers {
+            let r = materials[layer.material].response(c);
+            if !r.is_admissible() {
+                return None;
+            }
+            w += layer.thickness * r.energy;
+            for i in 0..3 {
+                g[i] += layer.thickness * r.gradient[i];
+                for (hij, rij) in h[i].iter_mut().zip(&r.hessian[i]) {
+                    *hij += layer.thickness * rij;
+                }
+            }
+        }
+        let n = &self.grad;
+        // dc[a][k] = ∂cₖ/∂xₐ.
+        let dc: [[Point; 3]; 3] = [0, 1, 2].map(|a| {
+            [
+                2.0 * n[a][0] * f1,
+                2.0 * n[a][1] * f2,
+                n[a][0] * f2 + n[a][1] * f1,
+            ]
+        });
+        let mut force = Matrix3::zeros();
+        let mut k = SMatrix::<f64, 9, 9>::zeros();
+        for a in 0..3 {
+            let fa = self.area * (g[0] * dc[a][0] + g[1] * dc[a][1] + g[2] * dc[a][2]);
+            force.set_column(a, &fa);
+            for b in 0..3 {
+                let mut block = Matrix3::zeros();
+                for p in 0..3 {
+                    for q in 0..3 {
+                        block += h[p][q] * dc[a][p] * dc[b][q].transpose();
+                    }
+                }
+                let geometric = 2.0 * g[0] * n[a][0] * n[b][0]
+                    + 2.0 * g[1] * n[a][1] * n[b][1]
+                    + g[2] * (n[a][0] * n[b][1] + n[a][1] * n[b][0]);
+                block += Matrix3::identity() * geometric;
+                k.fixed_view_mut::<3, 3>(3 * a, 3 * b)
+                    .copy_from(&(self.area * block));
+            }
+        }
+        Some((self.area * w, force, k))
+    }
+}

@@ -1,0 +1,23 @@
+//! The forward model: a nonlinear finite-element model of the inflating,
+//! patch-clad membrane tube, and the centreline it takes.
+//!
+//! `simulate(design, options)` meshes the balloon, starts Newton from the
+//! closed-form bare-tube state at the design pressure (above the bare tube's
+//! pressure plateau, on its stable rising branch — no need to trace the whole
+//! inflation through the bulge), then lets the patched regions relax by
+//! continuation in patch stiffness with automatic step control.
+//!
+//! Not modelled: gravity, self-contact (a knot passes through itself), inflation
+//! dynamics, wall-thickness variation of real balloons, bending stiffness.
+
+pub mod centreline;
+pub mod element;
+pub mod mesh;
+pub mod model;
+pub mod newton;
+pub mod overlap;
+pub mod pressure;
+mod simulate;
+pub mod tube_theory;
+
+pub use simulate::{SimulateError, SimulateOptions, Simulation, simulate};

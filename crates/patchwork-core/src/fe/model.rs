@@ -1,0 +1,279 @@
+//! The assembled finite-element model of one design: mesh, per-element layers
+//! (wall and patch shares from exact overlap areas), degrees of freedom and the
+//! total potential Π(x) = Σ_e A₀ Σ t W(C) − P V(x) with its gradient and Hessian.
+
+use faer::sparse::Pair;
+
+use super::element::{Layer, Triangle};
+use super::mesh::TubeMesh;
+use super::overlap::overlap_area;
+use super::pressure::{volume, volume_gradient, volume_hessian};
+use crate::curve::Point;
+use crate::design::{Bonding, Design};
+use crate::material::Material;
+
+const WALL: usize = 0;
+const PATCH: usize = 1;
+
+/// The model of one design on one mesh.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub mesh: TubeMesh,
+    pub triangles: Vec<Triangle>,
+    /// Final layers of each triangle.
+    pub layers: Vec<Vec<Layer>>,
+    /// Layers of the bare tube, for continuation in patch stiffness.
+    bare_layers: Vec<Vec<Layer>>,
+    pub materials: Vec<Material>,
+    /// First DOF of each node, `None` for clamped nodes.
+    pub dof: Vec<Option<usize>>,
+    pub dof_count: usize,
+    pub pressure: f64,
+    /// Share of each tube triangle covered by patches (0..=1 for `replace`).
+    pub patch_share: Vec<f64>,
+}
+
+impl Model {
+    pub fn new(design: &Design, mesh: TubeMesh) -> Model {
+        let b = &design.balloon;
+        let triangles: Vec<Triangle> = mesh
+            .triangles
+            .iter()
+            .map(|&nodes| {
+                let x = nodes.map(|n| mesh.nodes[n]);
+                let centroid = (x[0] + x[1] + x[2]) / 3.0;
+                let hoop = Point::new(-centroid.y, centroid.x, 0.0);
+                let hoop = if hoop.norm() > 1e-12 {
+                    hoop
+                } else {
+                    Point::x()
+                };
+                Triangle::new(nodes, x, hoop)
+            })
+            .collect();
+        let circumference = mesh.circumference();
+        let mut patch_share = vec![0.0; triangles.len()];
+        for (t, tri) in triangles.iter().enumerate().take(mesh.tube_triangles) {
+            let corners = unrolled_triangle(&mesh, tri.nodes);
+            let covered: f64 = design
+                .patches
+                .iter()
+                .map(|p| overlap_area(&corners, p, circumference))
+                .sum();
+            patch_share[t] = covered / flat_area(&corners);
+        }
+        let bare_layers = vec![
+            vec![Layer {
+                material: WALL,
+                thickness: b.wall_mm
+            }];
+            triangles.len()
+        ];
+        let layers = patch_share
+            .iter()
+            .map(|&share| layers_for(share, 1.0, design))
+            .collect();
+        let mut dof = vec![None; mesh.nodes.len()];
+        let mut next = 0;
+        for (node, fixed) in mesh.fixed.iter().enumerate() {
+            if !fixed {
+                dof[node] = Some(next);
+                next += 3;
+            }
+        }
+        Model {
+            mesh,
+            triangles,
+            layers,
+            bare_layers,
+            materials: vec![b.material.clone(), design.patch.material.clone()],
+            dof,
+            dof_count: next,
+            pressure: design.pressure_mpa(),
+            patch_share,
+        }
+    }
+
+    /// Layers with patch stiffness scaled by `s` ∈ [0, 1] (continuation).
+    pub fn layers_at(&self, design: &Design, s: f64) -> Vec<Vec<Layer>> {
+        if s >= 1.0 {
+            return self.layers.clone();
+        }
+        if s <= 0.0 {
+            return self.bare_layers.clone();
+        }
+        self.patch_share
+            .iter()
+            .map(|&share| layers_for(share, s, design))
+            .collect()
+    }
+
+    /// Positions of all nodes from the reference positions and a DOF vector.
+    pub fn positions(&self, u: &[f64]) -> Vec<Point> {
+        self.mesh
+            .nodes
+            .iter()
+            .zip(&self.dof)
+            .map(|(x, d)| match d {
+                Some(i) => Point::new(u[*i], u[i + 1], u[i + 2]),
+                None => *x,
+            })
+            .collect()
+    }
+
+    /// DOF vector from node positions.
+    pub fn unknowns(&self, x: &[Point]) -> Vec<f64> {
+        let mut u = vec![0.0; self.dof_count];
+        for (node, d) in self.dof.iter().enumerate() {
+            if let Some(i) = d {
+                u[*i..*i + 3].copy_from_slice(x[node].as_slice());
+            }
+        }
+        u
+    }
+
+    fn corners(&self, x: &[Point], t: usize) -> [Point; 3] {
+        self.triangles[t].nodes.map(|n| x[n])
+    }
+
+    /// Enclosed volume (mm³).
+    pub fn volume(&self, x: &[Point]) -> f64 {
+        (0..self.triangles.len())
+            .map(|t| volume(&self.corners(x, t)))
+            .sum()
+    }
+
+    /// Total potential Π; +∞ outside the materials' domain.
+    pub fn potential(&self, x: &[Point], layers: &[Vec<Layer>]) -> f64 {
+        let mut strain = 0.0;
+        for (t, tri) in self.triangles.iter().enumerate() {
+            strain += tri.energy(&self.corners(x, t), &layers[t], &self.materials);
+            if !strain.is_finite() {
+                return f64::INFINITY;
+            }
+        }
+        strain - self.pressure * self.volume(x)
+    }
+
+    /// The (lower-triangle) sparsity pattern in the order [`Model::assemble`]
+    /// fills values, followed by one diagonal entry per DOF (for shifts).
+    pub fn pattern(&self) -> Vec<Pair<usize, usize>> {
+        let mut pairs = Vec::new();
+        self.for_each_entry(|_, row, col| pairs.push(Pair::new(row, col)));
+        pairs.extend((0..self.dof_count).map(|i| Pair::new(i, i)));
+        pairs
+    }
+
+    /// Visits (triangle-local 9×9 index, global row, global col) for every
+    /// lower-triangle entry between free DOFs, in a fixed order.
+    fn for_each_entry(&self, mut visit: impl FnMut((usize, usize, usize), usize, usize)) {
+        for (t, tri) in self.triangles.iter().enumerate() {
+            for a in 0..3 {
+                let Some(da) = self.dof[tri.nodes[a]] else {
+                    continue;
+                };
+                for b in 0..3 {
+                    let Some(db) = self.dof[tri.nodes[b]] else {
+                        continue;
+                    };
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            if da + i >= db + j {
+                                visit((t, 3 * a + i, 3 * b + j), da + i, db + j);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Π, its gradient and the lower triangle of its Hessian (values in
+    /// [`Model::pattern`] order, shift entries set to `shift`). `None` when a
+    /// material leaves its domain.
+    pub fn assemble(
+        &self,
+        x: &[Point],
+        layers: &[Vec<Layer>],
+        shift: f64,
+        gradient: &mut [f64],
+        values: &mut Vec<f64>,
+    ) -> Option<f64> {
+        gradient.fill(0.0);
+        values.clear();
+        let mut blocks = Vec::with_capacity(self.triangles.len());
+        let mut potential = 0.0;
+        for (t, tri) in self.triangles.iter().enumerate() {
+            let corners = self.corners(x, t);
+            let (w, force, mut k) = tri.evaluate(&corners, &layers[t], &self.materials)?;
+            let dv = volume_gradient(&corners);
+            k -= self.pressure * volume_hessian(&corners);
+            potential += w - self.pressure * volume(&corners);
+            for a in 0..3 {
+                if let Some(d) = self.dof[tri.nodes[a]] {
+                    for i in 0..3 {
+                        gradient[d + i] += force[(i, a)] - self.pressure * dv[(i, a)];
+                    }
+                }
+            }
+            blocks.push(k);
+        }
+        self.for_each_entry(|(t, i, j), _, _| values.push(blocks[t][(i, j)]));
+        values.extend(std::iter::repeat_n(shift, self.dof_count));
+        Some(potential)
+    }
+}
+
+fn layers_for(share: f64, s: f64, design: &Design) -> Vec<Layer> {
+    let wall = design.balloon.wall_mm;
+    let patch = design.patch.thickness_mm;
+    match design.patch.bonding {
+        Bonding::Replace => {
+            // Overlapping patches cannot remove more than all of the wall.
+            let share = share.min(1.0) * s;
+            let mut layers = vec![Layer {
+                material: WALL,
+                thickness: wall * (1.0 - share),
+            }];
+            if share > 0.0 {
+                layers.push(Layer {
+                    material: PATCH,
+                    thickness: patch * share,
+                });
+            }
+            layers
+        }
+        Bonding::Laminate => {
+            let mut layers = vec![Layer {
+                material: WALL,
+                thickness: wall,
+            }];
+            if share > 0.0 {
+                layers.push(Layer {
+                    material: PATCH,
+                    thickness: patch * share * s,
+                });
+            }
+            layers
+        }
+    }
+}
+
+/// Unrolled corners of a tube triangle, unwrapped across the seam so the
+/// triangle is not split in two.
+fn unrolled_triangle(mesh: &TubeMesh, nodes: [usize; 3]) -> [[f64; 2]; 3] {
+    let c = mesh.circumference();
+    let mut p = nodes.map(|n| mesh.unrolled(n));
+    let max_x = p.iter().map(|q| q[0]).fold(f64::MIN, f64::max);
+    for q in &mut p {
+        if max_x - q[0] > 0.5 * c {
+            q[0] += c;
+        }
+    }
+    p
+}
+
+fn flat_area(p: &[[f64; 2]; 3]) -> f64 {
+    0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]))
+        .abs()
+}

@@ -1,0 +1,259 @@
+//! Newton's method on the total potential.
+//!
+//! Each iteration: assemble Π, ∇Π and the Hessian K; factor K by sparse
+//! Cholesky (faer, AMD ordering, symbolic analysis done once per model); step
+//! Δ = −K⁻¹∇Π; backtrack until Π decreases enough (Armijo). Where K is not
+//! positive definite — compressed, wrinkling regions, or far from equilibrium —
+//! Cholesky fails, which doubles as an inertia test: the step is taken with
+//! K + αI (Levenberg shift α grown until the factorisation succeeds, then decayed),
+//! which is still a descent direction. Converged states are tested once more with
+//! α = 0: success means a *stable* equilibrium.
+
+use std::time::{Duration, Instant};
+
+use faer::Side;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+
+use super::element::Layer;
+use super::model::Model;
+use crate::curve::Point;
+
+/// Limits and tolerances of one solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonOptions {
+    pub max_iterations: usize,
+    /// Converged when |∇Π| ≤ tolerance · |P ∂V/∂x| (the pressure load's size).
+    pub tolerance: f64,
+    pub time_limit: Duration,
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        NewtonOptions {
+            max_iterations: 60,
+            tolerance: 1e-9,
+            time_limit: Duration::from_secs(60),
+        }
+    }
+}
+
+/// Why a solve did not converge. Every variant carries the residual reached.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    #[error(
+        "Newton did not converge in {iterations} iterations (relative residual {residual:.3e})"
+    )]
+    NotConverged { iterations: usize, residual: f64 },
+    #[error("line search failed after {iterations} iterations (relative residual {residual:.3e})")]
+    LineSearch { iterations: usize, residual: f64 },
+    #[error(
+        "tangent could not be factorised even with shift {shift:.3e} (relative residual {residual:.3e})"
+    )]
+    Factorisation { shift: f64, residual: f64 },
+    #[error("solve exceeded its time limit of {limit_s:.1} s (relative residual {residual:.3e})")]
+    TimeLimit { limit_s: f64, residual: f64 },
+    #[error("starting state is outside the materials' domain")]
+    InadmissibleStart,
+    #[error("sparse matrix setup failed: {0}")]
+    Setup(String),
+}
+
+/// Statistics of a converged solve.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SolveStats {
+    pub iterations: usize,
+    pub residual: f64,
+    /// Whether K factorised without shift at the solution.
+    pub stable: bool,
+    pub assembly_time: Duration,
+    pub factor_time: Duration,
+}
+
+/// Reusable sparse structures of one model (pattern + symbolic Cholesky).
+pub struct Solver {
+    symbolic: SymbolicSparseColMat<usize>,
+    argsort: faer::sparse::Argsort<usize>,
+    llt: SymbolicLlt<usize>,
+    n: usize,
+}
+
+impl Solver {
+    pub fn new(model: &Model) -> Result<Solver, SolveError> {
+        let n = model.dof_count;
+        let pairs = model.pattern();
+        let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
+            .map_err(|e| SolveError::Setup(format!("{e:?}")))?;
+        let llt = SymbolicLlt::try_new(symbolic.as_ref(), Side::Lower)
+            .map_err(|e| SolveError::Setup(format!("{e:?}")))?;
+        Ok(Solver {
+            symbolic,
+            argsort,
+            llt,
+            n,
+        })
+    }
+
+    fn factor(&self, values: &[f64]) -> Option<Llt<usize, f64>> {
+        let matrix =
+            SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, values).ok()?;
+        Llt::try_new_with_symbolic(self.llt.clone(), matrix.as_ref(), Side::Lower).ok()
+    }
+
+    /// Minimises Π from `x` (updated in place).
+    pub fn solve(
+        &self,
+        model: &Model,
+        layers: &[Vec<Layer>],
+        x: &mut Vec<Point>,
+        options: &NewtonOptions,
+    ) -> Result<SolveStats, SolveError> {
+        let started = Instant::now();
+        let mut u = model.unknowns(x);
+        let mut gradient = vec![0.0; self.n];
+        let mut values = Vec::new();
+        let scale = load_scale(model, x).max(1e-12);
+        let mut shift: f64 = 0.0;
+        let mut stats = SolveStats::default();
+        let mut residual = f64::INFINITY;
+        for iteration in 0..=options.max_iterations {
+            let t0 = Instant::now();
+            let potential = model
+                .assemble(
+                    &model.positions(&u),
+                    layers,
+                    0.0,
+                    &mut gradient,
+                    &mut values,
+                )
+                .ok_or(SolveError::InadmissibleStart)?;
+            stats.assembly_time += t0.elapsed();
+            residual = norm(&gradient) / scale;
+            if !residual.is_finite() {
+                return Err(SolveError::InadmissibleStart);
+            }
+            let t1 = Instant::now();
+            if residual <= options.tolerance {
+                stats.iterations = iteration;
+                stats.residual = residual;
+                stats.stable = self.factor(&values).is_some();
+                stats.factor_time += t1.elapsed();
+                *x = model.positions(&u);
+                return Ok(stats);
+            }
+            if iteration == options.max_iterations {
+                break;
+            }
+            if started.elapsed() > options.time_limit {
+                return Err(SolveError::TimeLimit {
+                    limit_s: options.time_limit.as_secs_f64(),
+                    residual,
+                });
+            }
+            let diagonal_scale = mean_diagonal(&values, self.n);
+            let (llt, used_shift) =
+                self.factor_with_shift(&mut values, shift, diagonal_scale, residual)?;
+            stats.factor_time += t1.elapsed();
+            shift = used_shift / 10.0;
+            let mut step = faer::Mat::<f64>::from_fn(self.n, 1, |i, _| -gradient[i]);
+            llt.solve_in_place(step.as_mut());
+            let step: Vec<f64> = (0..self.n).map(|i| step[(i, 0)]).collect();
+            let slope: f64 = step.iter().zip(&gradient).map(|(s, g)| s * g).sum();
+            if slope.is_nan() || slope >= 0.0 {
+                return Err(SolveError::LineSearch {
+                    iterations: iteration,
+                    residual,
+                });
+            }
+            u = line_search(model, layers, &u, &step, potential, slope).ok_or(
+                SolveError::LineSearch {
+                    iterations: iteration,
+                    residual,
+                },
+            )?;
+        }
+        Err(SolveError::NotConverged {
+            iterations: options.max_iterations,
+            residual,
+        })
+    }
+
+    fn factor_with_shift(
+        &self,
+        values: &mut [f64],
+        start: f64,
+        diagonal_scale: f64,
+        residual: f64,
+    ) -> Result<(Llt<usize, f64>, f64), SolveError> {
+        let shift_slots = values.len() - self.n;
+        let mut shift = start;
+        for _ in 0..40 {
+            values[shift_slots..].fill(shift);
+            if let Some(llt) = self.factor(values) {
+                return Ok((llt, shift));
+            }
+            shift = if shift == 0.0 {
+                1e-8 * diagonal_scale
+            } else {
+                shift * 10.0
+            };
+        }
+        Err(SolveError::Factorisation { shift, residual })
+    }
+}
+
+/// Backtracking (Armijo, c = 1e-4). A tiny allowance of a few ulps of Π keeps
+/// the last iterations, whose energy change is below rounding, from stalling.
+fn line_search(
+    model: &Model,
+    layers: &[Vec<Layer>],
+    u: &[f64],
+    step: &[f64],
+    potential: f64,
+    slope: f64,
+) -> Option<Vec<f64>> {
+    let mut t = 1.0;
+    let allowance = 64.0 * f64::EPSILON * potential.abs();
+    while t > 1e-10 {
+        let trial: Vec<f64> = u.iter().zip(step).map(|(a, s)| a + t * s).collect();
+        let value = model.potential(&model.positions(&trial), layers);
+        if value.is_finite() && value <= potential + 1e-4 * t * slope + allowance {
+            return Some(trial);
+        }
+        t *= 0.5;
+    }
+    None
+}
+
+fn load_scale(model: &Model, x: &[Point]) -> f64 {
+    // |P ∂V/∂x| over free DOFs, or the wall's stiffness scale when P = 0.
+    let mut g = vec![0.0; model.dof_count];
+    for tri in &model.triangles {
+        let corners = tri.nodes.map(|n| x[n]);
+        let dv = super::pressure::volume_gradient(&corners);
+        for a in 0..3 {
+            if let Some(d) = model.dof[tri.nodes[a]] {
+                for i in 0..3 {
+                    g[d + i] += model.pressure * dv[(i, a)];
+                }
+            }
+        }
+    }
+    let n = norm(&g);
+    if n > 0.0 {
+        n
+    } else {
+        model.materials[0].shear_modulus() * model.mesh.radius
+    }
+}
+
+fn mean_diagonal(values: &[f64], n: usize) -> f64 {
+    // Shift slots are zero here, so the mean of |values| is a safe scale proxy.
+    let sum: f64 = values.iter().map(|v| v.abs()).sum();
+    (sum / values.len().max(1) as f64).max(1e-12) * (values.len() as f64 / n.max(1) as f64).min(1.0)
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|a| a * a).sum::<f64>().sqrt()
+}

@@ -1,0 +1,212 @@
+//! One forward solve of a design, from the closed-form bare tube to the patched
+//! equilibrium.
+
+use std::time::{Duration, Instant};
+
+use super::centreline::{Ring, rings};
+use super::mesh::{MeshSpec, TubeMesh};
+use super::model::Model;
+use super::newton::{NewtonOptions, SolveError, SolveStats, Solver};
+use super::tube_theory::{TubeState, inflate_tube};
+use crate::curve::{AnalysisOptions, Curve, Point, analyse};
+use crate::design::{Design, DesignError};
+
+/// Fidelity and limits of a forward solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimulateOptions {
+    pub mesh: MeshSpec,
+    /// Cross-section rings for the centreline (the authors used 72).
+    pub rings: usize,
+    pub newton: NewtonOptions,
+    /// Smallest continuation step in patch stiffness before giving up.
+    pub min_continuation_step: f64,
+}
+
+impl Default for SimulateOptions {
+    fn default() -> Self {
+        SimulateOptions {
+            mesh: MeshSpec::uniform(2.0),
+            rings: 72,
+            newton: NewtonOptions::default(),
+            min_continuation_step: 1.0 / 64.0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimulateError {
+    #[error("invalid design: {0}")]
+    Design(#[from] DesignError),
+    #[error("invalid options: {0}")]
+    Options(String),
+    #[error(
+        "the bare tube has no stable inflated state at {pressure_kpa} kPa with this material (pressure beyond the reach of its rising branches)"
+    )]
+    NoTubeState { pressure_kpa: f64 },
+    #[error("forward solve failed at patch stiffness {stiffness:.3}: {source}")]
+    Solve { stiffness: f64, source: SolveError },
+    #[error("the inflated centreline is degenerate: {0}")]
+    Centreline(String),
+}
+
+/// The inflated state and what a user reads from it.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    pub positions: Vec<Point>,
+    pub mesh: TubeMesh,
+    pub rings: Vec<Ring>,
+    pub centreline: Curve,
+    pub curvature: Vec<f64>,
+    pub torsion: Vec<f64>,
+    pub inflated_length_mm: f64,
+    pub hoop_stretch_mid: f64,
+    pub axial_stretch_mid: f64,
+    /// The closed-form bare-tube state used as the start.
+    pub tube_state: TubeState,
+    pub newton_iterations: usize,
+    pub continuation_steps: usize,
+    pub stable: bool,
+    pub residual: f64,
+    pub volume_mm3: f64,
+    pub elapsed: Duration,
+    pub assembly_time: Duration,
+    pub factor_time: Duration,
+}
+
+/// Simulates `design` under `options`.
+pub fn simulate(design: &Design, options: &SimulateOptions) -> Result<Simulation, SimulateError> {
+    let started = Instant::now();
+    design.validate()?;
+    let h = options.mesh.element_mm;
+    if !(h.is_finite() && h > 0.0 && h <= design.balloon.radius_mm * 2.0) {
+        return Err(SimulateError::Options(format!(
+            "mesh element size {h} mm must be positive and at most the balloon diameter"
+        )));
+    }
+    if !(2..=10_000).contains(&options.rings) {
+        return Err(SimulateError::Options(format!(
+            "rings = {} must be between 2 and 10000",
+            options.rings
+        )));
+    }
+    let b = &design.balloon;
+    let tube_state = inflate_tube(&b.material, design.pressure_mpa(), b.radius_mm, b.wall_mm)
+        .ok_or(SimulateError::NoTubeState {
+            pressure_kpa: design.pressure_kpa,
+        })?;
+    let mesh = TubeMesh::new(b.radius_mm, b.length_mm, options.mesh);
+    let model = Model::new(design, mesh);
+    let solver = Solver::new(&model).map_err(|source| SimulateError::Solve {
+        stiffness: 0.0,
+        source,
+    })?;
+    let mut x = initial_state(&model.mesh, tube_state);
+
+    let mut stats = SolveStats::default();
+    let mut iterations = 0;
+    let mut steps = 0;
+    let (mut done, mut step) = (0.0_f64, 1.0_f64);
+    while done < 1.0 {
+        let target = (done + step).min(1.0);
+        let layers = model.layers_at(design, target);
+        let mut trial = x.clone();
+        match solver.solve(&model, &layers, &mut trial, &options.newton) {
+            Ok(s) => {
+                iterations += s.iterations;
+                steps += 1;
+                stats.assembly_time += s.assembly_time;
+                stats.factor_time += s.factor_time;
+                stats.stable = s.stable;
+                stats.residual = s.residual;
+                x = trial;
+                done = target;
+                if s.iterations < 8 {
+                    step *= 2.0;
+                }
+            }
+            Err(source) => {
+                step /= 2.0;
+                if step < options.min_continuation_step
+                    || matches!(source, SolveError::TimeLimit { .. })
+                {
+                    return Err(SimulateError::Solve {
+                        stiffness: target,
+                        source,
+                    });
+                }
+            }
+        }
+    }
+    finish(
+        design, options, model, x, tube_state, stats, iterations, steps, started,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    design: &Design,
+    options: &SimulateOptions,
+    model: Model,
+    x: Vec<Point>,
+    tube_state: TubeState,
+    stats: SolveStats,
+    iterations: usize,
+    steps: usize,
+    started: Instant,
+) -> Result<Simulation, SimulateError> {
+    let rings = rings(&model.mesh, &x, options.rings);
+    let centres: Vec<Point> = rings.iter().map(|r| r.centre).collect();
+    let centreline =
+        Curve::from_points(centres).map_err(|e| SimulateError::Centreline(e.to_string()))?;
+    let analysis = analyse(&centreline, &AnalysisOptions::default());
+    let mid = rings.len() / 2;
+    let hoop_stretch_mid = rings[mid].radius / design.balloon.radius_mm;
+    let dy = rings[mid + 1].y - rings[mid - 1].y;
+    let axial_stretch_mid = centreline.arc_length()[mid + 1] - centreline.arc_length()[mid - 1];
+    let volume_mm3 = model.volume(&x);
+    Ok(Simulation {
+        inflated_length_mm: centreline.length(),
+        hoop_stretch_mid,
+        axial_stretch_mid: axial_stretch_mid / dy,
+        curvature: analysis.curvature,
+        torsion: analysis.torsion,
+        centreline,
+        rings,
+        positions: x,
+        mesh: model.mesh,
+        tube_state,
+        newton_iterations: iterations,
+        continuation_steps: steps,
+        stable: stats.stable,
+        residual: stats.residual,
+        volume_mm3,
+        elapsed: started.elapsed(),
+        assembly_time: stats.assembly_time,
+        factor_time: stats.factor_time,
+    })
+}
+
+/// The bare tube's uniform state mapped onto every node: tube nodes at radius
+/// λ₁R₀ and height λ₂Y; cap nodes on a hemisphere of radius λ₁R₀ above the
+/// stretched tube (the base ring stays clamped at R₀).
+fn initial_state(mesh: &TubeMesh, state: TubeState) -> Vec<Point> {
+    let tube_nodes = mesh.ring_y.len() * mesh.around;
+    mesh.nodes
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            if mesh.fixed[i] {
+                *p
+            } else if i < tube_nodes {
+                Point::new(p.x * state.hoop, p.y * state.hoop, p.z * state.axial)
+            } else {
+                let above = p.z - mesh.length;
+                Point::new(
+                    p.x * state.hoop,
+                    p.y * state.hoop,
+                    mesh.length * state.axial + above * state.hoop,
+                )
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,110 @@
+//! Membrane theory of a long closed-end tube under internal pressure P: the
+//! uniform state far from the ends, used as Newton's starting point.
+//!
+//! With hoop stretch λ₁, axial stretch λ₂, thickness t = t₀/(λ₁λ₂) and Cauchy
+//! stresses σᵢ = λᵢ ∂W/∂λᵢ, equilibrium of a ring and of the end cap give
+//!
+//!   hoop:  P R₀ / t₀ = (∂W/∂λ₁) / (λ₁ λ₂)
+//!   axial: λ₁ ∂W/∂λ₁ = 2 λ₂ ∂W/∂λ₂
+//!
+//! For rubber the pressure rises, peaks (a bulge forms), falls and, for
+//! stiffening models, rises again. We return the state on the *last rising
+//! branch*: the stable one that a pressure-controlled inflation ends on.
+
+use crate::material::Material;
+
+/// Uniform stretches of the bare tube.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TubeState {
+    /// Hoop stretch λ₁ (inflated radius / R₀).
+    pub hoop: f64,
+    /// Axial stretch λ₂.
+    pub axial: f64,
+}
+
+/// Largest hoop stretch searched: beyond any latex balloon's burst.
+const MAX_HOOP: f64 = 12.0;
+const SCAN_STEP: f64 = 0.005;
+
+/// Axial stretch in equilibrium with hoop stretch `hoop` (root of the axial
+/// equation by bisection), or `None` if none lies in (0.2, 50).
+pub fn axial_for_hoop(material: &Material, hoop: f64) -> Option<f64> {
+    let g = |axial: f64| {
+        let (w, w1, w2) = material.principal(hoop, axial);
+        w.is_finite().then_some(hoop * w1 - 2.0 * axial * w2)
+    };
+    let (mut lo, mut hi) = (0.2, 50.0);
+    let (mut g_lo, g_hi) = (g(lo)?, g(hi)?);
+    if g_lo.signum() == g_hi.signum() {
+        return None;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        let g_mid = g(mid)?;
+        if g_mid.signum() == g_lo.signum() {
+            lo = mid;
+            g_lo = g_mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo < 1e-13 {
+            break;
+        }
+    }
+    Some(0.5 * (lo + hi))
+}
+
+/// P R₀ / t₀ (MPa) at hoop stretch `hoop`, with the axial stretch in equilibrium.
+pub fn pressure_ratio(material: &Material, hoop: f64) -> Option<(f64, f64)> {
+    let axial = axial_for_hoop(material, hoop)?;
+    let (w, w1, _) = material.principal(hoop, axial);
+    w.is_finite().then(|| (w1 / (hoop * axial), axial))
+}
+
+/// The stable uniform state at pressure `pressure_mpa` of a tube with radius
+/// `r0` and wall `t0`, or `None` if no rising branch reaches that pressure.
+pub fn inflate_tube(material: &Material, pressure_mpa: f64, r0: f64, t0: f64) -> Option<TubeState> {
+    let target = pressure_mpa * r0 / t0;
+    if target == 0.0 {
+        return Some(TubeState {
+            hoop: 1.0,
+            axial: 1.0,
+        });
+    }
+    // Scan λ₁ upward, remembering the last upward crossing of the target.
+    let mut crossing = None;
+    let mut previous = (1.0, 0.0);
+    let mut hoop = 1.0;
+    while hoop < MAX_HOOP {
+        hoop += SCAN_STEP;
+        let Some((p, _)) = pressure_ratio(material, hoop) else {
+            break;
+        };
+        if previous.1 < target && p >= target {
+            crossing = Some((previous.0, hoop));
+        }
+        previous = (hoop, p);
+    }
+    let (mut lo, mut hi) = crossing?;
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        let (p, _) = pressure_ratio(material, mid)?;
+        if p < target { lo = mid } else { hi = mid }
+    }
+    let hoop = 0.5 * (lo + hi);
+    let axial = axial_for_hoop(material, hoop)?;
+    Some(TubeState { hoop, axial })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn neo_hookean_axial_equation_matches_design_values() {
+        let m = Material::NeoHookean { mu_mpa: 1.0 };
+        for (l1, l2) in [(1.5, 1.138601), (2.0, 1.435500), (3.0, 2.124220)] {
+            assert!((axial_for_hoop(&m, l1).unwrap() - l2).abs() < 1e-5);
+        }
+    }
+}
