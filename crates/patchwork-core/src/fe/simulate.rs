@@ -126,9 +126,13 @@ pub fn simulate(design: &Design, options: &SimulateOptions) -> Result<Simulation
             }
             Err(source) => {
                 step /= 2.0;
-                if step < options.min_continuation_step
-                    || matches!(source, SolveError::TimeLimit { .. })
-                {
+                // Retrying a smaller step cannot help once time is up or the
+                // start itself is outside the materials' domain.
+                let hopeless = matches!(
+                    source,
+                    SolveError::TimeLimit { .. } | SolveError::InadmissibleStart
+                );
+                if step < options.min_continuation_step || hopeless {
                     return Err(SimulateError::Solve {
                         stiffness: target,
                         source,
@@ -186,11 +190,18 @@ fn finish(
     })
 }
 
-/// The bare tube's uniform state mapped onto every node: tube nodes at radius
-/// λ₁R₀ and height λ₂Y; cap nodes on a hemisphere of radius λ₁R₀ above the
-/// stretched tube (the base ring stays clamped at R₀).
+/// The bare tube's uniform state mapped onto the mesh, shaped so every element
+/// starts inside its material's domain:
+/// - tube nodes at radius r(Y)·λ-blend and height λ₂Y, where the hoop stretch
+///   rises from 1 at the clamped base as 1 + (λ₁ − 1)(1 − e^(−Y/R₀)) — an abrupt
+///   step there would stretch the first elements past a Gent locking limit;
+/// - cap nodes at polar angle φ (0 at the rim) with hoop stretch falling from λ₁
+///   at the rim to 1 at the pole, above the stretched tube — a cap inflated
+///   equibiaxially by λ₁ would be far stiffer than the real one.
 fn initial_state(mesh: &TubeMesh, state: TubeState) -> Vec<Point> {
     let tube_nodes = mesh.ring_y.len() * mesh.around;
+    let r0 = mesh.radius;
+    let top = mesh.length * state.axial;
     mesh.nodes
         .iter()
         .enumerate()
@@ -198,14 +209,13 @@ fn initial_state(mesh: &TubeMesh, state: TubeState) -> Vec<Point> {
             if mesh.fixed[i] {
                 *p
             } else if i < tube_nodes {
-                Point::new(p.x * state.hoop, p.y * state.hoop, p.z * state.axial)
+                let hoop = 1.0 + (state.hoop - 1.0) * (1.0 - (-p.z / r0).exp());
+                Point::new(p.x * hoop, p.y * hoop, p.z * state.axial)
             } else {
-                let above = p.z - mesh.length;
-                Point::new(
-                    p.x * state.hoop,
-                    p.y * state.hoop,
-                    mesh.length * state.axial + above * state.hoop,
-                )
+                let height = p.z - mesh.length;
+                let rim_fraction = (1.0 - (height / r0).clamp(0.0, 1.0).powi(2)).sqrt();
+                let hoop = 1.0 + (state.hoop - 1.0) * rim_fraction;
+                Point::new(p.x * hoop, p.y * hoop, top + height * state.hoop.sqrt())
             }
         })
         .collect()

@@ -33,10 +33,13 @@ pub fn axial_for_hoop(material: &Material, hoop: f64) -> Option<f64> {
         let (w, w1, w2) = material.principal(hoop, axial);
         w.is_finite().then_some(hoop * w1 - 2.0 * axial * w2)
     };
-    let (mut lo, mut hi) = (0.2, 50.0);
-    let (mut g_lo, g_hi) = (g(lo)?, g(hi)?);
-    if g_lo.signum() == g_hi.signum() {
-        return None;
+    // Bracket by scanning outward from λ₂ = 1, which is always admissible: a
+    // fixed wide bracket would reach past a locking limit (Gent) where the
+    // energy is infinite.
+    let (mut lo, mut hi, mut g_lo) = bracket(&g, 1.05).or_else(|| bracket(&g, 1.0 / 1.05))?;
+    if lo > hi {
+        std::mem::swap(&mut lo, &mut hi);
+        g_lo = g(lo)?;
     }
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
@@ -52,6 +55,21 @@ pub fn axial_for_hoop(material: &Material, hoop: f64) -> Option<f64> {
         }
     }
     Some(0.5 * (lo + hi))
+}
+
+/// Scans λ₂ = 1, f, f², … until `g` changes sign; (last, next, g(last)).
+fn bracket(g: &impl Fn(f64) -> Option<f64>, factor: f64) -> Option<(f64, f64, f64)> {
+    let mut a = 1.0;
+    let mut g_a = g(a)?;
+    while (0.05..50.0).contains(&a) {
+        let b = a * factor;
+        let g_b = g(b)?;
+        if g_b.signum() != g_a.signum() {
+            return Some((a, b, g_a));
+        }
+        (a, g_a) = (b, g_b);
+    }
+    None
 }
 
 /// P R₀ / t₀ (MPa) at hoop stretch `hoop`, with the axial stretch in equilibrium.
