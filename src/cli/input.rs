@@ -27,18 +27,22 @@ fn parse_units(text: &str) -> Result<Units, String> {
         .map_err(|e: patchwork_core::CurveError| e.to_string())
 }
 
+/// The contents of a file named on the command line, or stdin for `-`.
+pub fn read_text_argument(name: &str) -> Result<String> {
+    if name == "-" {
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .context("reading stdin")?;
+        Ok(text)
+    } else {
+        std::fs::read_to_string(Path::new(name)).with_context(|| format!("cannot read {name}"))
+    }
+}
+
 impl CurveInput {
     pub fn load(&self) -> Result<Curve> {
-        let text = if self.file == "-" {
-            let mut text = String::new();
-            std::io::stdin()
-                .read_to_string(&mut text)
-                .context("reading the curve from stdin")?;
-            text
-        } else {
-            std::fs::read_to_string(Path::new(&self.file))
-                .with_context(|| format!("cannot read {}", self.file))?
-        };
+        let text = read_text_argument(&self.file)?;
         let curve = read_curve(&text, self.units).with_context(|| self.file.clone())?;
         Ok(curve.smoothed(self.smooth_mm)?)
     }

@@ -5,6 +5,7 @@ mod input;
 mod ksa_cmd;
 mod output;
 mod preset_cmd;
+mod simulate_cmd;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -30,6 +31,8 @@ enum Command {
     Ksa(ksa_cmd::KsaArgs),
     /// Write a preset curve as CSV to stdout (`patchwork preset list` for names).
     Preset(preset_cmd::PresetArgs),
+    /// Forward model: inflate a design and report its centreline.
+    Simulate(simulate_cmd::SimulateArgs),
 }
 
 pub fn run() -> Result<()> {
@@ -41,6 +44,7 @@ pub fn run() -> Result<()> {
         Command::Curve(args) => curve_cmd::run(args),
         Command::Ksa(args) => ksa_cmd::run(args),
         Command::Preset(args) => preset_cmd::run(args),
+        Command::Simulate(args) => simulate_cmd::run(args),
     }
 }
 

@@ -45,10 +45,10 @@ enum Model {
 /// (W₁, W₂) = ∂W/∂λᵢ / μ with λ₃ = 1/(λ₁λ₂).
 fn w12(model: &Model, l1: f64, l2: f64) -> (f64, f64) {
     let i1 = l1 * l1 + l2 * l2 + 1.0 / (l1 * l1 * l2 * l2);
-    if let Model::Gent { jm } = model {
-        if i1 - 3.0 >= *jm {
-            return (f64::NAN, f64::NAN);
-        }
+    if let Model::Gent { jm } = model
+        && i1 - 3.0 >= *jm
+    {
+        return (f64::NAN, f64::NAN);
     }
     let d = dw_di1(model, i1);
     let di1_dl1 = 2.0 * l1 - 2.0 / (l1.powi(3) * l2 * l2);

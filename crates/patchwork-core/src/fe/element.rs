@@ -122,22 +122,27 @@ impl Triangle {
         });
         let mut force = Matrix3::zeros();
         let mut k = SMatrix::<f64, 9, 9>::zeros();
+        // hc[a][q] = Σₚ Hₚq ∂cₚ/∂xₐ, so the material block is Σ_q hc[a][q] ⊗ ∂c_q/∂xᵦ.
+        let hc: [[Point; 3]; 3] = [0, 1, 2].map(|a| {
+            [0, 1, 2].map(|q| dc[a][0] * h[0][q] + dc[a][1] * h[1][q] + dc[a][2] * h[2][q])
+        });
         for a in 0..3 {
             let fa = self.area * (g[0] * dc[a][0] + g[1] * dc[a][1] + g[2] * dc[a][2]);
             force.set_column(a, &fa);
-            for b in 0..3 {
-                let mut block = Matrix3::zeros();
-                for p in 0..3 {
-                    for q in 0..3 {
-                        block += h[p][q] * dc[a][p] * dc[b][q].transpose();
-                    }
-                }
+            for b in 0..=a {
+                let mut block = hc[a][0] * dc[b][0].transpose()
+                    + hc[a][1] * dc[b][1].transpose()
+                    + hc[a][2] * dc[b][2].transpose();
                 let geometric = 2.0 * g[0] * n[a][0] * n[b][0]
                     + 2.0 * g[1] * n[a][1] * n[b][1]
                     + g[2] * (n[a][0] * n[b][1] + n[a][1] * n[b][0]);
                 block += Matrix3::identity() * geometric;
-                k.fixed_view_mut::<3, 3>(3 * a, 3 * b)
-                    .copy_from(&(self.area * block));
+                block *= self.area;
+                k.fixed_view_mut::<3, 3>(3 * a, 3 * b).copy_from(&block);
+                if b != a {
+                    k.fixed_view_mut::<3, 3>(3 * b, 3 * a)
+                        .copy_from(&block.transpose());
+                }
             }
         }
         Some((self.area * w, force, k))

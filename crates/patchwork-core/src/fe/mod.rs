@@ -12,6 +12,7 @@
 
 pub mod centreline;
 pub mod element;
+pub mod export;
 pub mod mesh;
 pub mod model;
 pub mod newton;
@@ -20,4 +21,4 @@ pub mod pressure;
 mod simulate;
 pub mod tube_theory;
 
-pub use simulate::{SimulateError, SimulateOptions, Simulation, simulate};
+pub use simulate::{SimulateError, SimulateOptions, Simulation, simulate, simulate_from};

@@ -35,18 +35,26 @@ impl Default for SimulateOptions {
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimulateError {
+    // The inner errors are part of the message, not a `source`, so that a
+    // cause chain printed by the caller does not repeat them.
     #[error("invalid design: {0}")]
-    Design(#[from] DesignError),
+    Design(DesignError),
     #[error("invalid options: {0}")]
     Options(String),
     #[error(
         "the bare tube has no stable inflated state at {pressure_kpa} kPa with this material (pressure beyond the reach of its rising branches)"
     )]
     NoTubeState { pressure_kpa: f64 },
-    #[error("forward solve failed at patch stiffness {stiffness:.3}: {source}")]
-    Solve { stiffness: f64, source: SolveError },
+    #[error("forward solve failed at patch stiffness {stiffness:.3}: {reason}")]
+    Solve { stiffness: f64, reason: SolveError },
     #[error("the inflated centreline is degenerate: {0}")]
     Centreline(String),
+}
+
+impl From<DesignError> for SimulateError {
+    fn from(e: DesignError) -> Self {
+        SimulateError::Design(e)
+    }
 }
 
 /// The inflated state and what a user reads from it.
@@ -69,12 +77,26 @@ pub struct Simulation {
     pub residual: f64,
     pub volume_mm3: f64,
     pub elapsed: Duration,
-    pub assembly_time: Duration,
-    pub factor_time: Duration,
+    /// Counts and times of all Newton solves (continuation steps included).
+    pub stats: SolveStats,
+    /// Fraction of each element covered by patches (for export and plots).
+    pub patch_share: Vec<f64>,
 }
 
-/// Simulates `design` under `options`.
+/// Simulates `design` under `options`, starting from the closed-form bare tube.
 pub fn simulate(design: &Design, options: &SimulateOptions) -> Result<Simulation, SimulateError> {
+    simulate_from(design, options, None)
+}
+
+/// Simulates `design`, warm-started from `previous` — the converged state of a
+/// nearby design on the same mesh (same balloon and element size), as in a
+/// design loop. Falls back to the cold start if the meshes differ or the warm
+/// solve fails.
+pub fn simulate_from(
+    design: &Design,
+    options: &SimulateOptions,
+    previous: Option<&Simulation>,
+) -> Result<Simulation, SimulateError> {
     let started = Instant::now();
     design.validate()?;
     let h = options.mesh.element_mm;
@@ -96,15 +118,32 @@ pub fn simulate(design: &Design, options: &SimulateOptions) -> Result<Simulation
         })?;
     let mesh = TubeMesh::new(b.radius_mm, b.length_mm, options.mesh);
     let model = Model::new(design, mesh);
-    let solver = Solver::new(&model).map_err(|source| SimulateError::Solve {
+    let solver = Solver::new(&model).map_err(|reason| SimulateError::Solve {
         stiffness: 0.0,
-        source,
+        reason,
     })?;
-    let mut x = initial_state(&model.mesh, tube_state);
-
     let mut stats = SolveStats::default();
     let mut iterations = 0;
     let mut steps = 0;
+    if let Some(previous) = previous.filter(|p| same_mesh(&p.mesh, &model.mesh)) {
+        let mut x = previous.positions.clone();
+        if let Ok(s) = solver.solve(&model, &model.layers, &mut x, &options.newton) {
+            let stats = s;
+            return finish(
+                design,
+                options,
+                model,
+                x,
+                tube_state,
+                stats,
+                s.iterations,
+                1,
+                started,
+            );
+        }
+    }
+    let mut x = initial_state(&model.mesh, tube_state);
+
     let (mut done, mut step) = (0.0_f64, 1.0_f64);
     while done < 1.0 {
         let target = (done + step).min(1.0);
@@ -114,28 +153,25 @@ pub fn simulate(design: &Design, options: &SimulateOptions) -> Result<Simulation
             Ok(s) => {
                 iterations += s.iterations;
                 steps += 1;
-                stats.assembly_time += s.assembly_time;
-                stats.factor_time += s.factor_time;
-                stats.stable = s.stable;
-                stats.residual = s.residual;
+                stats.accumulate(&s);
                 x = trial;
                 done = target;
                 if s.iterations < 8 {
                     step *= 2.0;
                 }
             }
-            Err(source) => {
+            Err(reason) => {
                 step /= 2.0;
                 // Retrying a smaller step cannot help once time is up or the
                 // start itself is outside the materials' domain.
                 let hopeless = matches!(
-                    source,
+                    reason,
                     SolveError::TimeLimit { .. } | SolveError::InadmissibleStart
                 );
                 if step < options.min_continuation_step || hopeless {
                     return Err(SimulateError::Solve {
                         stiffness: target,
-                        source,
+                        reason,
                     });
                 }
             }
@@ -177,7 +213,7 @@ fn finish(
         centreline,
         rings,
         positions: x,
-        mesh: model.mesh,
+        mesh: model.mesh.clone(),
         tube_state,
         newton_iterations: iterations,
         continuation_steps: steps,
@@ -185,9 +221,16 @@ fn finish(
         residual: stats.residual,
         volume_mm3,
         elapsed: started.elapsed(),
-        assembly_time: stats.assembly_time,
-        factor_time: stats.factor_time,
+        stats,
+        patch_share: model.patch_share.clone(),
     })
+}
+
+fn same_mesh(a: &TubeMesh, b: &TubeMesh) -> bool {
+    a.nodes.len() == b.nodes.len()
+        && a.around == b.around
+        && a.ring_y == b.ring_y
+        && a.radius == b.radius
 }
 
 /// The bare tube's uniform state mapped onto the mesh, shaped so every element

@@ -9,6 +9,79 @@
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
+/// What a strain-energy formula needs of its number type. Implemented by `f64`
+/// (energy only: the line search's hot path) and by [`Hyper`] (energy with exact
+/// first and second derivatives), so each formula is written once.
+pub trait Real:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Add<f64, Output = Self>
+    + Sub<f64, Output = Self>
+    + Mul<f64, Output = Self>
+    + Div<f64, Output = Self>
+{
+    fn constant(value: f64) -> Self;
+    fn value(&self) -> f64;
+    fn ln(self) -> Self;
+    fn sqrt(self) -> Self;
+    fn powf(self, p: f64) -> Self;
+    fn powi(self, n: i32) -> Self;
+    /// g(self) for a scalar function g given g, g′, g″ at `self.value()`:
+    /// lets a formula in one invariant apply its chain rule once.
+    fn apply(self, g: f64, dg: f64, d2g: f64) -> Self;
+}
+
+impl Real for f64 {
+    fn constant(value: f64) -> Self {
+        value
+    }
+    fn value(&self) -> f64 {
+        *self
+    }
+    fn ln(self) -> Self {
+        f64::ln(self)
+    }
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    fn powf(self, p: f64) -> Self {
+        f64::powf(self, p)
+    }
+    fn powi(self, n: i32) -> Self {
+        f64::powi(self, n)
+    }
+    fn apply(self, g: f64, _dg: f64, _d2g: f64) -> Self {
+        g
+    }
+}
+
+impl Real for Hyper {
+    fn constant(value: f64) -> Self {
+        Hyper::constant(value)
+    }
+    fn value(&self) -> f64 {
+        self.value
+    }
+    fn ln(self) -> Self {
+        Hyper::ln(self)
+    }
+    fn sqrt(self) -> Self {
+        Hyper::sqrt(self)
+    }
+    fn powf(self, p: f64) -> Self {
+        Hyper::powf(self, p)
+    }
+    fn powi(self, n: i32) -> Self {
+        Hyper::powi(self, n)
+    }
+    fn apply(self, g: f64, dg: f64, d2g: f64) -> Self {
+        self.chain(g, dg, d2g)
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hyper {
     pub value: f64,

@@ -117,9 +117,13 @@ impl Material {
         }
     }
 
-    /// W only (cheaper is not needed yet; kept separate for clarity at call sites).
+    /// W only, in plain `f64` arithmetic (the line search's hot path); +∞
+    /// outside the domain.
     pub fn energy(&self, c: [f64; 3]) -> f64 {
-        self.response(c).energy
+        match models::energy(self, c) {
+            Some(w) if w.is_finite() => w,
+            _ => f64::INFINITY,
+        }
     }
 
     /// Energy of an in-plane stretch pair (λ₁, λ₂) along the principal axes, and

@@ -1,6 +1,7 @@
 //! The strain-energy formulas (see the variants of [`Material`] for each W).
 
-use super::{Hyper, Material, MaterialError};
+use super::hyper::Real;
+use super::{Material, MaterialError};
 
 /// Arruda–Boyce series coefficients αᵢ (ABAQUS Theory Manual, eight-chain model).
 const ARRUDA_BOYCE: [f64; 5] = [
@@ -17,14 +18,14 @@ const ARRUDA_BOYCE: [f64; 5] = [
 const OGDEN_SERIES_GAP: f64 = 1e-6;
 
 /// W(C), or `None` outside the physical domain.
-pub(super) fn energy(material: &Material, c: [Hyper; 3]) -> Option<Hyper> {
+pub(super) fn energy<T: Real>(material: &Material, c: [T; 3]) -> Option<T> {
     let [c11, c22, c12] = c;
     let j = c11 * c22 - c12 * c12;
-    if !(j.value > 0.0 && c11.value > 0.0 && c22.value > 0.0) {
+    if !(j.value() > 0.0 && c11.value() > 0.0 && c22.value() > 0.0) {
         return None;
     }
     let trace = c11 + c22;
-    let i1 = trace + Hyper::constant(1.0) / j;
+    let i1 = trace + T::constant(1.0) / j;
     match material {
         Material::NeoHookean { mu_mpa } => Some((i1 - 3.0) * (0.5 * mu_mpa)),
         Material::MooneyRivlin { c10_mpa, c01_mpa } => {
@@ -32,23 +33,29 @@ pub(super) fn energy(material: &Material, c: [Hyper; 3]) -> Option<Hyper> {
             Some((i1 - 3.0) * *c10_mpa + (i2 - 3.0) * *c01_mpa)
         }
         Material::Gent { mu_mpa, jm } => {
-            let argument = Hyper::constant(1.0) - (i1 - 3.0) / *jm;
-            (argument.value > 0.0).then(|| argument.ln() * (-0.5 * mu_mpa * jm))
+            let argument = T::constant(1.0) - (i1 - 3.0) / *jm;
+            (argument.value() > 0.0).then(|| argument.ln() * (-0.5 * mu_mpa * jm))
         }
         Material::ArrudaBoyce { mu_mpa, lambda_m } => {
-            let mut w = Hyper::constant(0.0);
+            // W(I₁) and its first two derivatives in plain arithmetic, then one
+            // chain-rule step: far cheaper than the series on AD numbers.
+            let x = i1.value();
+            let (mut w, mut dw, mut d2w) = (0.0, 0.0, 0.0);
             for (k, alpha) in ARRUDA_BOYCE.iter().enumerate() {
                 let i = k as i32 + 1;
-                let scale = alpha / lambda_m.powi(2 * i - 2);
-                w = w + (i1.powi(i) - 3f64.powi(i)) * scale;
+                let scale = mu_mpa * alpha / lambda_m.powi(2 * i - 2);
+                let fi = i as f64;
+                w += scale * (x.powi(i) - 3f64.powi(i));
+                dw += scale * fi * x.powi(i - 1);
+                d2w += scale * fi * (fi - 1.0) * x.powi(i - 2);
             }
-            Some(w * *mu_mpa)
+            Some(i1.apply(w, dw, d2w))
         }
         Material::Ogden { mu_mpa, alpha } => {
             let half_trace = trace * 0.5;
             let half_gap = (c11 - c22) * 0.5;
             let q = half_gap * half_gap + c12 * c12;
-            let mut w = Hyper::constant(0.0);
+            let mut w = T::constant(0.0);
             for (mu, a) in mu_mpa.iter().zip(alpha) {
                 let p = a / 2.0;
                 let in_plane = symmetric_power_sum(half_trace, q, p);
@@ -62,8 +69,8 @@ pub(super) fn energy(material: &Material, c: [Hyper; 3]) -> Option<Hyper> {
 
 /// e₁ᵖ + e₂ᵖ for the eigenvalues e = m ± √q of a symmetric 2×2 matrix, smooth
 /// through q = 0: there f(m+d) + f(m−d) = 2f(m) + f″(m) q + f⁗(m) q²/12 + O(q³).
-fn symmetric_power_sum(m: Hyper, q: Hyper, p: f64) -> Hyper {
-    if q.value > OGDEN_SERIES_GAP * OGDEN_SERIES_GAP * m.value * m.value {
+fn symmetric_power_sum<T: Real>(m: T, q: T, p: f64) -> T {
+    if q.value() > OGDEN_SERIES_GAP * OGDEN_SERIES_GAP * m.value() * m.value() {
         let d = q.sqrt();
         (m + d).powf(p) + (m - d).powf(p)
     } else {
