@@ -264,10 +264,19 @@ fn simulate_json_has_the_contract_fields_and_files() {
     let design = r#"{"balloon": {"length_mm": 100}, "patches": [{"x_mm": 0, "y_mm": 50, "h_mm": 20, "w_mm": 3, "theta_deg": 0}]}"#;
     let dir = temp_dir("simulate");
     let out = dir.to_string_lossy().to_string();
-    let report = json(&patchwork_with_stdin(&["simulate", "-", "--json", "--rings", "40", "--out", &out], design));
+    let report = json(&patchwork_with_stdin(
+        &["simulate", "-", "--json", "--rings", "40", "--out", &out],
+        design,
+    ));
     assert_eq!(report["converged"], true);
     assert_eq!(report["centreline_mm"].as_array().unwrap().len(), 40);
-    for key in ["inflated_length_mm", "hoop_stretch_mid", "axial_stretch_mid", "newton_iterations", "elapsed_ms"] {
+    for key in [
+        "inflated_length_mm",
+        "hoop_stretch_mid",
+        "axial_stretch_mid",
+        "newton_iterations",
+        "elapsed_ms",
+    ] {
         assert!(report[key].as_f64().is_some_and(f64::is_finite), "{key}");
     }
     assert_eq!(report["curvature_per_mm"].as_array().unwrap().len(), 40);
@@ -279,7 +288,13 @@ fn simulate_json_has_the_contract_fields_and_files() {
     assert!(vtk.starts_with("# vtk DataFile") && vtk.contains("POLYGONS"));
     let ply = std::fs::read_to_string(dir.join("balloon.ply")).unwrap();
     assert!(ply.starts_with("ply\n") && ply.contains("element face"));
-    assert_eq!(std::fs::read_to_string(dir.join("centreline.csv")).unwrap().lines().count(), 41);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("centreline.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        41
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -287,21 +302,58 @@ fn simulate_json_has_the_contract_fields_and_files() {
 fn simulate_rejects_invalid_designs_naming_the_field() {
     let patch = |fields: &str| format!(r#"{{"patches": [{{{fields}}}]}}"#);
     let cases = [
-        (patch(r#""x_mm": 0, "y_mm": 50, "h_mm": -1, "w_mm": 2, "theta_deg": 0"#), "patches[0].h_mm"),
-        (patch(r#""x_mm": 0, "y_mm": 50, "h_mm": 10, "w_mm": 0, "theta_deg": 0"#), "patches[0].w_mm"),
-        (patch(r#""x_mm": 0, "y_mm": 500, "h_mm": 10, "w_mm": 2, "theta_deg": 0"#), "entirely off the balloon"),
-        (patch(r#""x_mm": 0, "y_mm": 50, "h_mm": 10, "w_mm": 2, "theta_deg": 120"#), "theta_deg"),
-        (patch(r#""x_mm": 0, "y_mm": 50, "h_mm": 10, "w_mm": 2"#), "theta_deg"),
-        (r#"{"patches": [], "balloon": {"material": {"model": "rubber"}}}"#.to_string(), "unknown variant `rubber`"),
-        (r#"{"patches": [], "balloon": {"material": {"model": "gent", "mu_mpa": 1, "jm": -2}}}"#.to_string(), "balloon.material.jm"),
-        (r#"{"patches": [], "pressure_kpa": -3}"#.to_string(), "pressure_kpa"),
-        (r#"{"patches": [], "balloon": {"wall_mm": 5}}"#.to_string(), "balloon.wall_mm"),
-        (r#"{"patches": [], "balloon": {"length_mm": 1e999}}"#.to_string(), "invalid design JSON"),
+        (
+            patch(r#""x_mm": 0, "y_mm": 50, "h_mm": -1, "w_mm": 2, "theta_deg": 0"#),
+            "patches[0].h_mm",
+        ),
+        (
+            patch(r#""x_mm": 0, "y_mm": 50, "h_mm": 10, "w_mm": 0, "theta_deg": 0"#),
+            "patches[0].w_mm",
+        ),
+        (
+            patch(r#""x_mm": 0, "y_mm": 500, "h_mm": 10, "w_mm": 2, "theta_deg": 0"#),
+            "entirely off the balloon",
+        ),
+        (
+            patch(r#""x_mm": 0, "y_mm": 50, "h_mm": 10, "w_mm": 2, "theta_deg": 120"#),
+            "theta_deg",
+        ),
+        (
+            patch(r#""x_mm": 0, "y_mm": 50, "h_mm": 10, "w_mm": 2"#),
+            "theta_deg",
+        ),
+        (
+            r#"{"patches": [], "balloon": {"material": {"model": "rubber"}}}"#.to_string(),
+            "unknown variant `rubber`",
+        ),
+        (
+            r#"{"patches": [], "balloon": {"material": {"model": "gent", "mu_mpa": 1, "jm": -2}}}"#
+                .to_string(),
+            "balloon.material.jm",
+        ),
+        (
+            r#"{"patches": [], "pressure_kpa": -3}"#.to_string(),
+            "pressure_kpa",
+        ),
+        (
+            r#"{"patches": [], "balloon": {"wall_mm": 5}}"#.to_string(),
+            "balloon.wall_mm",
+        ),
+        (
+            r#"{"patches": [], "balloon": {"length_mm": 1e999}}"#.to_string(),
+            "invalid design JSON",
+        ),
         ("{".to_string(), "invalid design JSON"),
     ];
     for (design, needle) in cases {
         assert_one_line_error(&patchwork_with_stdin(&["simulate", "-"], &design), needle);
     }
-    assert_one_line_error(&patchwork_with_stdin(&["simulate", "-", "--mesh-mm", "-1"], r#"{"patches": []}"#), "mesh element size");
-    assert_one_line_error(&patchwork_with_stdin(&["simulate", "-", "--rings", "1"], r#"{"patches": []}"#), "rings");
+    assert_one_line_error(
+        &patchwork_with_stdin(&["simulate", "-", "--mesh-mm", "-1"], r#"{"patches": []}"#),
+        "mesh element size",
+    );
+    assert_one_line_error(
+        &patchwork_with_stdin(&["simulate", "-", "--rings", "1"], r#"{"patches": []}"#),
+        "rings",
+    );
 }

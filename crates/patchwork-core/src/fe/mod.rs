@@ -20,5 +20,6 @@ pub mod overlap;
 pub mod pressure;
 mod simulate;
 pub mod tube_theory;
+pub mod volume_control;
 
 pub use simulate::{SimulateError, SimulateOptions, Simulation, simulate, simulate_from};

@@ -143,6 +143,22 @@ impl Model {
             .sum()
     }
 
+    /// ∂V/∂u over the free DOFs.
+    pub fn volume_gradient(&self, x: &[Point]) -> Vec<f64> {
+        let mut g = vec![0.0; self.dof_count];
+        for (t, tri) in self.triangles.iter().enumerate() {
+            let dv = volume_gradient(&self.corners(x, t));
+            for a in 0..3 {
+                if let Some(d) = self.dof[tri.nodes[a]] {
+                    for i in 0..3 {
+                        g[d + i] += dv[(i, a)];
+                    }
+                }
+            }
+        }
+        g
+    }
+
     /// Total potential Π; +∞ outside the materials' domain.
     pub fn potential(&self, x: &[Point], layers: &[Vec<Layer>]) -> f64 {
         let mut strain = 0.0;
@@ -199,6 +215,20 @@ impl Model {
         gradient: &mut [f64],
         values: &mut Vec<f64>,
     ) -> Option<f64> {
+        self.assemble_at(x, layers, self.pressure, shift, gradient, values)
+    }
+
+    /// [`Model::assemble`] at an explicit pressure (MPa): volume control treats
+    /// the pressure as an unknown.
+    pub fn assemble_at(
+        &self,
+        x: &[Point],
+        layers: &[Vec<Layer>],
+        pressure: f64,
+        shift: f64,
+        gradient: &mut [f64],
+        values: &mut Vec<f64>,
+    ) -> Option<f64> {
         gradient.fill(0.0);
         values.clear();
         let mut blocks = Vec::with_capacity(self.triangles.len());
@@ -207,12 +237,12 @@ impl Model {
             let corners = self.corners(x, t);
             let (w, force, mut k) = tri.evaluate(&corners, &layers[t], &self.materials)?;
             let dv = volume_gradient(&corners);
-            k -= self.pressure * volume_hessian(&corners);
-            potential += w - self.pressure * volume(&corners);
+            k -= pressure * volume_hessian(&corners);
+            potential += w - pressure * volume(&corners);
             for a in 0..3 {
                 if let Some(d) = self.dof[tri.nodes[a]] {
                     for i in 0..3 {
-                        gradient[d + i] += force[(i, a)] - self.pressure * dv[(i, a)];
+                        gradient[d + i] += force[(i, a)] - pressure * dv[(i, a)];
                     }
                 }
             }
