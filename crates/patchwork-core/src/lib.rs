@@ -11,6 +11,7 @@ pub mod cmaes;
 pub mod curve;
 pub mod design;
 pub mod fe;
+pub mod inverse;
 pub mod ksa;
 pub mod material;
 

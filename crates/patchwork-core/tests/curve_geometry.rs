@@ -4,7 +4,7 @@ use nalgebra::{Rotation3, Vector3};
 use patchwork_core::curve::presets::{HelixParams, LineParams, TrefoilParams};
 use patchwork_core::curve::{
     AnalysisOptions, Curve, Point, Preset, ReferenceCurve, analyse, bishop_frames, dtw,
-    frenet_frames,
+    frenet_frames, interpolate,
 };
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
@@ -249,12 +249,6 @@ proptest! {
         prop_assert!((ab - ba).abs() <= 1e-9 * (1.0 + ab));
         prop_assert!(ab >= 0.0);
     }
-}
-
-fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
-    let upper = xs.partition_point(|&v| v < x).clamp(1, xs.len() - 1);
-    let t = ((x - xs[upper - 1]) / (xs[upper] - xs[upper - 1])).clamp(0.0, 1.0);
-    ys[upper - 1] + t * (ys[upper] - ys[upper - 1])
 }
 
 /// The case a random proptest seed once found (a = 10, pitch 20, n = 373): a

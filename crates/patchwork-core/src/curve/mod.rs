@@ -8,6 +8,7 @@ mod error;
 mod frames;
 mod polyline;
 pub mod presets;
+mod profile;
 mod read;
 mod shape_error;
 mod smoothing;
@@ -18,6 +19,7 @@ pub use error::{CurveError, Location};
 pub use frames::{Frame, bishop_frames, frenet_frames};
 pub use polyline::Curve;
 pub use presets::{Preset, ReferenceCurve};
+pub use profile::interpolate;
 pub use read::{Units, read_curve, read_json, read_text};
 pub use shape_error::{ShapeError, shape_error};
 

@@ -22,6 +22,7 @@ use std::f64::consts::TAU;
 
 pub use stretch::Stretch;
 
+use crate::curve::interpolate;
 use crate::curve::{
     Analysis, AnalysisOptions, Curve, DerivativeScheme, analyse, bishop_frames, frenet_frames,
 };
@@ -250,15 +251,4 @@ fn normal_angle_in_bishop_frame(analysis: &Analysis) -> Vec<f64> {
         previous = Some(unwrapped);
     }
     angles
-}
-
-fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
-    let upper = xs.partition_point(|&v| v < x).clamp(1, xs.len() - 1);
-    let (x0, x1) = (xs[upper - 1], xs[upper]);
-    let t = if x1 > x0 {
-        ((x - x0) / (x1 - x0)).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    ys[upper - 1] + t * (ys[upper] - ys[upper - 1])
 }

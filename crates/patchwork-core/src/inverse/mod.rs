@@ -1,0 +1,13 @@
+//! Inverse design: from a target curve to patches (issue 4). The design
+//! variables and their bounds, the objective, and the KSA → CMA-ES → verify
+//! pipeline.
+
+pub mod objective;
+pub mod pipeline;
+pub mod variables;
+
+pub use objective::{ObjectiveOptions, TargetProfiles};
+pub use pipeline::{
+    DesignOutcome, DesignProgress, DesignRequest, DesignRunError, Metrics, Stage, design,
+};
+pub use variables::{DesignSpace, Freedom, VariableBounds};

@@ -1,0 +1,162 @@
+//! How far a simulated centreline is from the target: the mismatch of the
+//! curvature and torsion profiles on normalised arc length.
+//!
+//! f = (‖κ − κ*‖₂ + ‖τ − τ*‖₂) / (‖κ*‖₂ + ‖τ*‖₂), the authors' form normalised
+//! by the target so that f = 1 means "as far as a straight tube". Torsion is
+//! compared only where the target bends (κ* > `torsion_kappa_min`): where a
+//! curve is nearly straight its torsion is undefined and its estimate is noise.
+//! `squared` uses squared norms instead (the paper's other form); an optional
+//! shape-error term adds the aligned RMS distance as a fraction of the length.
+
+use serde::{Deserialize, Serialize};
+
+use crate::curve::{AnalysisOptions, Curve, analyse, interpolate, shape_error};
+
+/// Objective options.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ObjectiveOptions {
+    pub squared: bool,
+    /// Weight of the shape error (RMS / length); 0 leaves it out.
+    pub shape_weight: f64,
+    pub torsion_kappa_min: f64,
+    /// Both centrelines are smoothed with σ = this fraction of their length
+    /// before κ and τ are taken: τ is a third derivative of ring centres from
+    /// circle fits, and unsmoothed it is mostly noise.
+    pub smooth_fraction: f64,
+}
+
+impl Default for ObjectiveOptions {
+    fn default() -> Self {
+        ObjectiveOptions {
+            squared: false,
+            shape_weight: 0.0,
+            torsion_kappa_min: 0.005,
+            smooth_fraction: 0.01,
+        }
+    }
+}
+
+/// The target's profiles, sampled once at the simulation's ring positions
+/// (equal steps of normalised arc length).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TargetProfiles {
+    pub curve: Curve,
+    pub curvature: Vec<f64>,
+    pub torsion: Vec<f64>,
+    pub torsion_mask: Vec<bool>,
+    norm: f64,
+}
+
+impl TargetProfiles {
+    /// Samples the target at `samples` equal fractions of its length.
+    pub fn new(target: &Curve, samples: usize, options: &ObjectiveOptions) -> TargetProfiles {
+        let fine = target
+            .resample((target.len() * 4).clamp(400, 20_000))
+            .unwrap_or_else(|_| target.clone());
+        let fine = fine
+            .smoothed(options.smooth_fraction * fine.length())
+            .unwrap_or(fine);
+        let analysis = analyse(&fine, &AnalysisOptions::default());
+        let length = fine.length();
+        let at = |values: &[f64], t: f64| interpolate(&analysis.s, values, t * length);
+        let fractions: Vec<f64> = (0..samples)
+            .map(|i| i as f64 / (samples - 1) as f64)
+            .collect();
+        let curvature: Vec<f64> = fractions
+            .iter()
+            .map(|&t| at(&analysis.curvature, t))
+            .collect();
+        let torsion: Vec<f64> = fractions
+            .iter()
+            .map(|&t| at(&analysis.torsion, t))
+            .collect();
+        let torsion_mask: Vec<bool> = curvature
+            .iter()
+            .map(|&k| k > options.torsion_kappa_min)
+            .collect();
+        let norm = l2(&curvature) + l2(&masked(&torsion, &torsion_mask));
+        TargetProfiles {
+            curve: target.clone(),
+            curvature,
+            torsion,
+            torsion_mask,
+            norm: norm.max(1e-12),
+        }
+    }
+
+    /// κ and τ of a simulated centreline, smoothed like the target, at the same
+    /// fractions of length as the target's samples.
+    pub fn profiles_of(
+        &self,
+        centreline: &Curve,
+        options: &ObjectiveOptions,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let n = self.curvature.len();
+        let fine = centreline
+            .resample((n * 8).clamp(200, 20_000))
+            .unwrap_or_else(|_| centreline.clone());
+        let fine = fine
+            .smoothed(options.smooth_fraction * fine.length())
+            .unwrap_or(fine);
+        let analysis = analyse(&fine, &AnalysisOptions::default());
+        let length = fine.length();
+        let at = |values: &[f64], i: usize| {
+            interpolate(&analysis.s, values, length * i as f64 / (n - 1) as f64)
+        };
+        (
+            (0..n).map(|i| at(&analysis.curvature, i)).collect(),
+            (0..n).map(|i| at(&analysis.torsion, i)).collect(),
+        )
+    }
+
+    /// The objective for a simulated centreline.
+    pub fn objective(&self, centreline: &Curve, options: &ObjectiveOptions) -> f64 {
+        let (curvature, torsion) = self.profiles_of(centreline, options);
+        self.mismatch(centreline, &curvature, &torsion, options)
+    }
+
+    /// The objective for given profiles (same sampling as the target's).
+    pub fn mismatch(
+        &self,
+        centreline: &Curve,
+        curvature: &[f64],
+        torsion: &[f64],
+        options: &ObjectiveOptions,
+    ) -> f64 {
+        let dk: Vec<f64> = curvature
+            .iter()
+            .zip(&self.curvature)
+            .map(|(a, b)| a - b)
+            .collect();
+        let dt: Vec<f64> = torsion
+            .iter()
+            .zip(&self.torsion)
+            .map(|(a, b)| a - b)
+            .collect();
+        let dt = masked(&dt, &self.torsion_mask);
+        let mut f = if options.squared {
+            (l2(&dk).powi(2) + l2(&dt).powi(2)) / self.norm.powi(2)
+        } else {
+            (l2(&dk) + l2(&dt)) / self.norm
+        };
+        if options.shape_weight > 0.0
+            && let Ok(e) = shape_error(centreline, &self.curve, 200)
+        {
+            f += options.shape_weight * e.percent_of_length / 100.0;
+        }
+        if f.is_finite() { f } else { f64::INFINITY }
+    }
+}
+
+fn masked(values: &[f64], mask: &[bool]) -> Vec<f64> {
+    values
+        .iter()
+        .zip(mask)
+        .map(|(v, m)| if *m { *v } else { 0.0 })
+        .collect()
+}
+
+fn l2(v: &[f64]) -> f64 {
+    v.iter().map(|a| a * a).sum::<f64>().sqrt()
+}

@@ -1,0 +1,336 @@
+//! The design pipeline: KSA seed → CMA-ES with the FE model in the loop →
+//! verification of the best design on a finer mesh.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use serde::{Deserialize, Serialize};
+
+use super::objective::{ObjectiveOptions, TargetProfiles};
+use super::variables::{DesignSpace, Freedom, VariableBounds, VariableError};
+use crate::cmaes::{Bounds, Optimizer, Progress, RunOptions, Termination};
+use crate::curve::{Curve, dtw, shape_error};
+use crate::design::{Design, DesignError, Patch};
+use crate::fe::mesh::MeshSpec;
+use crate::fe::tube_theory::inflate_tube;
+use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate, simulate_from};
+use crate::ksa::{KsaError, KsaParams, Stretch, ksa};
+
+/// Objective value given to a candidate whose forward solve failed: worse than
+/// any design that solves (a straight tube scores 1).
+pub const FAILED_SOLVE_PENALTY: f64 = 10.0;
+
+/// Everything a design run needs besides the target curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DesignRequest {
+    /// Balloon, patch material and pressure (its `patches` are ignored).
+    pub base: Design,
+    /// Keep `base.balloon.length_mm`; otherwise the length is chosen so the
+    /// inflated balloon is as long as the target.
+    pub fix_length: bool,
+    pub freedom: Freedom,
+    pub bounds: VariableBounds,
+    pub objective: ObjectiveOptions,
+    /// Forward evaluations for the search.
+    pub budget: usize,
+    pub seed: u64,
+    pub threads: usize,
+    pub search_mesh: MeshSpec,
+    pub verify_mesh: MeshSpec,
+    pub rings: usize,
+    /// KSA's curvature tolerance, merge distance and default width.
+    pub kappa_tol: f64,
+    pub merge_mm: f64,
+    pub width_mm: f64,
+}
+
+impl Default for DesignRequest {
+    fn default() -> Self {
+        DesignRequest {
+            base: Design::reference(vec![]),
+            fix_length: false,
+            freedom: Freedom::default(),
+            bounds: VariableBounds::default(),
+            objective: ObjectiveOptions::default(),
+            budget: 600,
+            seed: 1,
+            threads: 1,
+            search_mesh: MeshSpec::uniform(2.0),
+            verify_mesh: MeshSpec::uniform(1.0),
+            rings: 72,
+            kappa_tol: 0.01,
+            merge_mm: 20.0,
+            width_mm: 1.5,
+        }
+    }
+}
+
+/// The pipeline's stages, as reported to observers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    Seed,
+    Search,
+    Verify,
+}
+
+/// Progress reported to the observer.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DesignProgress {
+    pub stage: Stage,
+    pub generation: usize,
+    pub evaluations: usize,
+    pub best_objective: f64,
+    pub sigma: f64,
+    pub elapsed_s: f64,
+}
+
+/// How well the final design matches the target (on the verification mesh).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Metrics {
+    pub objective: f64,
+    pub dtw_curvature: f64,
+    pub dtw_torsion: f64,
+    pub shape_error_mm: f64,
+    pub shape_error_percent: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DesignRunError {
+    #[error("invalid design options: {0}")]
+    Design(DesignError),
+    #[error("{0}")]
+    Ksa(KsaError),
+    #[error("{0}")]
+    Variables(VariableError),
+    #[error("the bare balloon has no stable inflated state at {pressure_kpa} kPa")]
+    NoTubeState { pressure_kpa: f64 },
+    #[error("the seed design could not be simulated: {0}")]
+    Seed(SimulateError),
+    #[error("the best design failed verification on the fine mesh: {0}")]
+    Verify(SimulateError),
+    #[error("cancelled")]
+    Cancelled,
+}
+
+/// The result of a design run.
+#[derive(Debug, Clone)]
+pub struct DesignOutcome {
+    pub design: Design,
+    pub seed_design: Design,
+    /// The verified simulation of `design`.
+    pub simulation: Simulation,
+    pub metrics: Metrics,
+    pub seed_objective: f64,
+    pub target_length_mm: f64,
+    pub inflated_length_mm: f64,
+    /// The uninflated balloon length to cut (= design.balloon.length_mm).
+    pub uninflated_length_to_cut_mm: f64,
+    pub evaluations: usize,
+    pub termination: Termination,
+    pub elapsed: Duration,
+}
+
+/// Runs the pipeline. `cancel` is polled before every evaluation and between
+/// generations; `observer` hears every stage and generation.
+pub fn design(
+    target: &Curve,
+    request: &DesignRequest,
+    cancel: &AtomicBool,
+    observer: &mut dyn FnMut(&DesignProgress),
+) -> Result<DesignOutcome, DesignRunError> {
+    let started = Instant::now();
+    let mut base = Design {
+        patches: vec![],
+        ..request.base.clone()
+    };
+    base.validate().map_err(DesignRunError::Design)?;
+    let b = &base.balloon;
+    let state = inflate_tube(&b.material, base.pressure_mpa(), b.radius_mm, b.wall_mm).ok_or(
+        DesignRunError::NoTubeState {
+            pressure_kpa: base.pressure_kpa,
+        },
+    )?;
+    let target_length = target.length();
+    let report =
+        |stage, generation, evaluations, best, sigma, observer: &mut dyn FnMut(&DesignProgress)| {
+            observer(&DesignProgress {
+                stage,
+                generation,
+                evaluations,
+                best_objective: best,
+                sigma,
+                elapsed_s: started.elapsed().as_secs_f64(),
+            })
+        };
+    report(Stage::Seed, 0, 0, f64::NAN, 0.0, observer);
+
+    // Balloon length from mechanics: the bare tube stretches by λ₂ axially.
+    let mut length = if request.fix_length {
+        b.length_mm
+    } else {
+        target_length / state.axial
+    };
+    let search = SimulateOptions {
+        mesh: request.search_mesh,
+        rings: request.rings,
+        ..SimulateOptions::default()
+    };
+    let mut seed_patches = seed(target, &base, length, request)?;
+    if !request.fix_length && !seed_patches.is_empty() {
+        // Patches stretch less than bare wall: correct the length once from a
+        // simulation of the seed, scaling patch positions and lengths with it.
+        let trial = Design {
+            balloon: crate::design::Balloon {
+                length_mm: length,
+                ..base.balloon.clone()
+            },
+            patches: seed_patches.clone(),
+            ..base.clone()
+        };
+        let sim = simulate(&trial, &search).map_err(DesignRunError::Seed)?;
+        let ratio = target_length / sim.inflated_length_mm;
+        length *= ratio;
+        for p in &mut seed_patches {
+            p.y_mm *= ratio;
+            p.h_mm *= ratio;
+        }
+    }
+    base.balloon.length_mm = length;
+    let seed_design = Design {
+        patches: seed_patches.clone(),
+        ..base.clone()
+    };
+    let profiles = TargetProfiles::new(target, request.rings, &request.objective);
+    let evaluate = |design: &Design, warm: Option<&Simulation>| -> (f64, Option<Simulation>) {
+        match simulate_from(design, &search, warm) {
+            Ok(sim) => (
+                profiles.objective(&sim.centreline, &request.objective),
+                Some(sim),
+            ),
+            Err(_) => (FAILED_SOLVE_PENALTY, None),
+        }
+    };
+    let (seed_objective, seed_sim) = evaluate(&seed_design, None);
+    let mut evaluations = 1;
+    let mut best = (seed_objective, seed_design.clone());
+    let mut termination = Termination::MaxEvaluations;
+
+    let space = DesignSpace::new(seed_patches, request.freedom, &request.bounds, length)
+        .map_err(DesignRunError::Variables)?;
+    if space.dimension() > 0 && request.budget > 1 {
+        let warm: Mutex<Option<Arc<Simulation>>> = Mutex::new(seed_sim.map(Arc::new));
+        let incumbent: Mutex<(f64, Vec<Patch>)> = Mutex::new((seed_objective, space.seed.clone()));
+        let objective = |u: &[f64]| -> f64 {
+            if cancel.load(Ordering::Relaxed) {
+                return f64::INFINITY;
+            }
+            let candidate = Design {
+                patches: space.patches(u),
+                ..base.clone()
+            };
+            let start = warm.lock().ok().and_then(|w| w.clone());
+            let (f, sim) = evaluate(&candidate, start.as_deref());
+            if let (Some(sim), Ok(mut best)) = (sim, incumbent.lock())
+                && f < best.0
+            {
+                *best = (f, candidate.patches.clone());
+                if let Ok(mut w) = warm.lock() {
+                    *w = Some(Arc::new(sim));
+                }
+            }
+            f
+        };
+        let n = space.dimension();
+        let mut options = RunOptions::new(space.seed_point(), 0.2, request.seed);
+        options.bounds = Bounds::new(vec![0.0; n], vec![1.0; n]).ok();
+        options.max_evaluations = request.budget - 1;
+        options.threads = request.threads.max(1);
+        options.tol_fun = 1e-7;
+        options.tol_x = 1e-6;
+        let mut optimizer = Optimizer::new(options);
+        let result = optimizer.run(&objective, &mut |p: &Progress| {
+            report(
+                Stage::Search,
+                p.generation,
+                p.evaluations + 1,
+                p.best_fitness.min(seed_objective),
+                p.sigma,
+                observer,
+            );
+            !cancel.load(Ordering::Relaxed)
+        });
+        if result.termination == Termination::Cancelled {
+            return Err(DesignRunError::Cancelled);
+        }
+        termination = result.termination;
+        evaluations += result.evaluations;
+        if let Ok(found) = incumbent.lock()
+            && found.0 < best.0
+        {
+            best = (
+                found.0,
+                Design {
+                    patches: found.1.clone(),
+                    ..base.clone()
+                },
+            );
+        }
+    }
+
+    report(Stage::Verify, 0, evaluations, best.0, 0.0, observer);
+    let verify = SimulateOptions {
+        mesh: request.verify_mesh,
+        rings: request.rings,
+        ..SimulateOptions::default()
+    };
+    let simulation = simulate(&best.1, &verify).map_err(DesignRunError::Verify)?;
+    let metrics = metrics(&profiles, &simulation, &request.objective);
+    Ok(DesignOutcome {
+        inflated_length_mm: simulation.inflated_length_mm,
+        uninflated_length_to_cut_mm: best.1.balloon.length_mm,
+        design: best.1,
+        seed_design,
+        simulation,
+        metrics,
+        seed_objective,
+        target_length_mm: target_length,
+        evaluations,
+        termination,
+        elapsed: started.elapsed(),
+    })
+}
+
+/// KSA patches for a balloon of `length`, mapping the whole target onto it.
+fn seed(
+    target: &Curve,
+    base: &Design,
+    length: f64,
+    request: &DesignRequest,
+) -> Result<Vec<Patch>, DesignRunError> {
+    let params = KsaParams {
+        l0_mm: length,
+        r0_mm: base.balloon.radius_mm,
+        kappa_tol: request.kappa_tol,
+        merge_mm: request.merge_mm,
+        width_mm: request.width_mm,
+        stretch: Stretch::Fixed(target.length() / length),
+        ..KsaParams::default()
+    };
+    Ok(ksa(target, &params).map_err(DesignRunError::Ksa)?.patches)
+}
+
+fn metrics(profiles: &TargetProfiles, sim: &Simulation, options: &ObjectiveOptions) -> Metrics {
+    let shape = shape_error(&sim.centreline, &profiles.curve, 200).ok();
+    let (curvature, torsion) = profiles.profiles_of(&sim.centreline, options);
+    Metrics {
+        objective: profiles.mismatch(&sim.centreline, &curvature, &torsion, options),
+        dtw_curvature: dtw(&curvature, &profiles.curvature, None).unwrap_or(f64::INFINITY),
+        dtw_torsion: dtw(&torsion, &profiles.torsion, None).unwrap_or(f64::INFINITY),
+        shape_error_mm: shape.as_ref().map_or(f64::INFINITY, |e| e.rms_mm),
+        shape_error_percent: shape
+            .as_ref()
+            .map_or(f64::INFINITY, |e| e.percent_of_length),
+    }
+}

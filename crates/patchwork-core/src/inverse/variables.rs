@@ -1,0 +1,196 @@
+//! The design variables: each patch's X, Y, H, W, Θ, each free or fixed, with
+//! bounds. CMA-ES searches the unit cube of the free variables; this module maps
+//! between that cube and patches.
+
+use serde::{Deserialize, Serialize};
+
+use crate::design::Patch;
+
+/// Which of a patch's parameters the optimiser may change.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Freedom {
+    pub x: bool,
+    pub y: bool,
+    pub h: bool,
+    pub w: bool,
+    pub theta: bool,
+}
+
+impl Default for Freedom {
+    /// Patchwork frees everything (the authors froze X and Θ).
+    fn default() -> Self {
+        Freedom {
+            x: true,
+            y: true,
+            h: true,
+            w: true,
+            theta: true,
+        }
+    }
+}
+
+/// Bounds of the design variables relative to the seed and absolute
+/// fabrication limits (mm, degrees).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct VariableBounds {
+    /// X within ± this of the seed (mm of circumference).
+    pub x_window_mm: f64,
+    /// Y within ± this of the seed (the authors used 5 mm).
+    pub y_window_mm: f64,
+    /// Patch length limits (the authors used 10–30 mm).
+    pub h_min_mm: f64,
+    pub h_max_mm: f64,
+    /// Patch width limits (the authors used 1–3 mm).
+    pub w_min_mm: f64,
+    pub w_max_mm: f64,
+    /// Θ within ± this of the seed, and never beyond ±`theta_limit_deg`.
+    pub theta_window_deg: f64,
+    pub theta_limit_deg: f64,
+}
+
+impl Default for VariableBounds {
+    fn default() -> Self {
+        VariableBounds {
+            x_window_mm: 5.0,
+            y_window_mm: 5.0,
+            h_min_mm: 10.0,
+            h_max_mm: 30.0,
+            w_min_mm: 1.0,
+            w_max_mm: 3.0,
+            theta_window_deg: 30.0,
+            theta_limit_deg: 80.0,
+        }
+    }
+}
+
+/// An impossible bound, naming the field.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("bounds.{field}: {reason}")]
+pub struct VariableError {
+    pub field: &'static str,
+    pub reason: String,
+}
+
+/// The mapping between the unit cube of free variables and a list of patches.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DesignSpace {
+    pub seed: Vec<Patch>,
+    /// (patch, parameter index 0..5, lower, upper) for each free variable.
+    pub free: Vec<(usize, usize, f64, f64)>,
+}
+
+impl DesignSpace {
+    pub fn new(
+        seed: Vec<Patch>,
+        freedom: Freedom,
+        bounds: &VariableBounds,
+        balloon_length: f64,
+    ) -> Result<DesignSpace, VariableError> {
+        let b = bounds;
+        let check = |field, ok: bool, reason: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(VariableError {
+                    field,
+                    reason: reason.to_string(),
+                })
+            }
+        };
+        check(
+            "x_window_mm",
+            b.x_window_mm.is_finite() && b.x_window_mm > 0.0,
+            "must be positive",
+        )?;
+        check(
+            "y_window_mm",
+            b.y_window_mm.is_finite() && b.y_window_mm > 0.0,
+            "must be positive",
+        )?;
+        check(
+            "h_min_mm",
+            b.h_min_mm.is_finite() && b.h_min_mm > 0.0 && b.h_min_mm < b.h_max_mm,
+            "must be positive and below h_max_mm",
+        )?;
+        check("h_max_mm", b.h_max_mm.is_finite(), "must be finite")?;
+        check(
+            "w_min_mm",
+            b.w_min_mm.is_finite() && b.w_min_mm > 0.0 && b.w_min_mm < b.w_max_mm,
+            "must be positive and below w_max_mm",
+        )?;
+        check("w_max_mm", b.w_max_mm.is_finite(), "must be finite")?;
+        check(
+            "theta_window_deg",
+            b.theta_window_deg.is_finite() && b.theta_window_deg > 0.0,
+            "must be positive",
+        )?;
+        check(
+            "theta_limit_deg",
+            b.theta_limit_deg.is_finite() && b.theta_limit_deg > 0.0 && b.theta_limit_deg <= 90.0,
+            "must be in (0, 90]",
+        )?;
+        let mut free = Vec::new();
+        for (i, p) in seed.iter().enumerate() {
+            let ranges = [
+                (freedom.x, p.x_mm - b.x_window_mm, p.x_mm + b.x_window_mm),
+                (
+                    freedom.y,
+                    (p.y_mm - b.y_window_mm).max(0.0),
+                    (p.y_mm + b.y_window_mm).min(balloon_length),
+                ),
+                // A seed outside the fabrication limits widens them to include it.
+                (freedom.h, b.h_min_mm.min(p.h_mm), b.h_max_mm.max(p.h_mm)),
+                (freedom.w, b.w_min_mm.min(p.w_mm), b.w_max_mm.max(p.w_mm)),
+                (
+                    freedom.theta,
+                    (p.theta_deg - b.theta_window_deg).max(-b.theta_limit_deg),
+                    (p.theta_deg + b.theta_window_deg).min(b.theta_limit_deg),
+                ),
+            ];
+            for (k, (is_free, lo, hi)) in ranges.into_iter().enumerate() {
+                if is_free && hi > lo {
+                    free.push((i, k, lo, hi));
+                }
+            }
+        }
+        Ok(DesignSpace { seed, free })
+    }
+
+    pub fn dimension(&self) -> usize {
+        self.free.len()
+    }
+
+    /// The seed in unit-cube coordinates.
+    pub fn seed_point(&self) -> Vec<f64> {
+        self.free
+            .iter()
+            .map(|&(i, k, lo, hi)| (get(&self.seed[i], k) - lo) / (hi - lo))
+            .collect()
+    }
+
+    /// Patches for a point of the unit cube (coordinates outside [0, 1] are
+    /// clamped; the optimiser's bound transform keeps them inside anyway).
+    pub fn patches(&self, u: &[f64]) -> Vec<Patch> {
+        let mut patches = self.seed.clone();
+        for (&(i, k, lo, hi), &v) in self.free.iter().zip(u) {
+            set(&mut patches[i], k, lo + (hi - lo) * v.clamp(0.0, 1.0));
+        }
+        patches
+    }
+}
+
+fn get(p: &Patch, k: usize) -> f64 {
+    [p.x_mm, p.y_mm, p.h_mm, p.w_mm, p.theta_deg][k]
+}
+
+fn set(p: &mut Patch, k: usize, v: f64) {
+    match k {
+        0 => p.x_mm = v,
+        1 => p.y_mm = v,
+        2 => p.h_mm = v,
+        3 => p.w_mm = v,
+        _ => p.theta_deg = v,
+    }
+}
