@@ -357,3 +357,114 @@ fn simulate_rejects_invalid_designs_naming_the_field() {
         "rings",
     );
 }
+
+/// ezdxf (the independent reader; `.ci/run` installs it) must read and audit a
+/// DXF with zero errors. It repairs the table-head handles the `dxf` crate
+/// writes, which are fixes, not errors.
+fn ezdxf_errors(path: &std::path::Path) -> usize {
+    let script =
+        "import sys, ezdxf\ndoc = ezdxf.readfile(sys.argv[1])\nprint(len(doc.audit().errors))";
+    let output = Command::new("python3")
+        .args(["-c", script])
+        .arg(path)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        output.status.success(),
+        "ezdxf failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8_lossy(&output.stdout)
+        .trim()
+        .parse()
+        .expect("a count")
+}
+
+#[test]
+fn design_writes_every_file_and_dxf_audits_cleanly() {
+    let dir = temp_dir("design");
+    let target_dir = dir.join("target");
+    let truth = r#"{"balloon": {"length_mm": 100}, "patches": [{"x_mm": 0, "y_mm": 50, "h_mm": 20, "w_mm": 2.5, "theta_deg": 10}]}"#;
+    let out = target_dir.to_string_lossy().to_string();
+    assert!(
+        patchwork_with_stdin(&["simulate", "-", "--out", &out], truth)
+            .status
+            .success()
+    );
+    let curve = target_dir
+        .join("centreline.csv")
+        .to_string_lossy()
+        .to_string();
+    let design_dir = dir.join("design").to_string_lossy().to_string();
+    let report = json(&patchwork(&[
+        "design",
+        &curve,
+        "--out",
+        &design_dir,
+        "--budget",
+        "30",
+        "--threads",
+        "2",
+        "--seed",
+        "3",
+        "--json",
+    ]));
+    for key in [
+        "design",
+        "centreline_mm",
+        "metrics",
+        "inflated_length_mm",
+        "uninflated_length_to_cut_mm",
+        "evaluations",
+        "profiles",
+    ] {
+        assert!(!report[key].is_null(), "{key} missing");
+    }
+    assert!(
+        (report["uninflated_length_to_cut_mm"].as_f64().unwrap() - 100.0).abs() < 3.0,
+        "length from mechanics"
+    );
+    assert!(
+        report["metrics"]["objective"].as_f64().unwrap()
+            < report["seed_objective"].as_f64().unwrap()
+    );
+    assert!(report["evaluations"].as_u64().unwrap() <= 30);
+    let files = dir.join("design");
+    for name in [
+        "design.json",
+        "design.csv",
+        "patches.dxf",
+        "template.dxf",
+        "template.svg",
+        "profiles.svg",
+    ] {
+        assert!(files.join(name).is_file(), "{name} not written");
+    }
+    assert_eq!(ezdxf_errors(&files.join("patches.dxf")), 0);
+    assert_eq!(ezdxf_errors(&files.join("template.dxf")), 0);
+    let csv = std::fs::read_to_string(files.join("design.csv")).unwrap();
+    assert!(csv.starts_with("patch,x_mm,y_mm,h_mm,w_mm,theta_deg\nP1,"));
+    let svg = std::fs::read_to_string(files.join("template.svg")).unwrap();
+    assert!(svg.contains(r#"viewBox="0 0"#) && svg.contains("<polygon"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn design_rejects_bad_options_in_one_line() {
+    let hilbert = HILBERT;
+    assert_one_line_error(
+        &patchwork(&["design", hilbert, "--out", "/tmp/x", "--budget", "0"]),
+        "--budget",
+    );
+    assert_one_line_error(
+        &patchwork(&["design", hilbert, "--out", "/tmp/x", "--mesh-mm", "-2"]),
+        "--mesh-mm",
+    );
+    assert_one_line_error(
+        &patchwork_with_stdin(
+            &["design", hilbert, "--out", "/tmp/x", "--options", "-"],
+            r#"{"pressure_kpa": -1}"#,
+        ),
+        "pressure_kpa",
+    );
+}

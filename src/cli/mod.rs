@@ -1,6 +1,7 @@
 //! Command-line contract. Scripts depend on these names: change with care.
 
 mod curve_cmd;
+mod design_cmd;
 mod input;
 mod ksa_cmd;
 mod output;
@@ -33,6 +34,9 @@ enum Command {
     Preset(preset_cmd::PresetArgs),
     /// Forward model: inflate a design and report its centreline.
     Simulate(simulate_cmd::SimulateArgs),
+    /// Inverse design: patches for a target curve, with cut files (work in
+    /// progress: slow on long multi-patch curves).
+    Design(design_cmd::DesignArgs),
 }
 
 pub fn run() -> Result<()> {
@@ -45,6 +49,7 @@ pub fn run() -> Result<()> {
         Command::Ksa(args) => ksa_cmd::run(args),
         Command::Preset(args) => preset_cmd::run(args),
         Command::Simulate(args) => simulate_cmd::run(args),
+        Command::Design(args) => design_cmd::run(args),
     }
 }
 

@@ -10,6 +10,7 @@
 pub mod cmaes;
 pub mod curve;
 pub mod design;
+pub mod fabrication;
 pub mod fe;
 pub mod inverse;
 pub mod ksa;

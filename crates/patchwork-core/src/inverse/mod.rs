@@ -4,10 +4,12 @@
 
 pub mod objective;
 pub mod pipeline;
+pub mod report;
 pub mod variables;
 
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use pipeline::{
     DesignOutcome, DesignProgress, DesignRequest, DesignRunError, Metrics, Stage, design,
 };
+pub use report::DesignReport;
 pub use variables::{DesignSpace, Freedom, VariableBounds};

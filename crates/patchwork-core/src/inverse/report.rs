@@ -1,0 +1,74 @@
+//! `design.json`: the serialisable record of a design run, shared by the CLI
+//! and (later) the API.
+
+use serde::{Deserialize, Serialize};
+
+use super::objective::{ObjectiveOptions, TargetProfiles};
+use super::pipeline::{DesignOutcome, Metrics};
+use crate::cmaes::Termination;
+use crate::design::Design;
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Profiles {
+    pub target_curvature_per_mm: Vec<f64>,
+    pub target_torsion_per_mm: Vec<f64>,
+    pub curvature_per_mm: Vec<f64>,
+    pub torsion_per_mm: Vec<f64>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DesignReport {
+    /// The design (same schema as `simulate`).
+    pub design: Design,
+    /// The predicted (verified) inflated centreline.
+    pub centreline_mm: Vec<[f64; 3]>,
+    pub metrics: Metrics,
+    pub seed_objective: f64,
+    pub target_length_mm: f64,
+    pub inflated_length_mm: f64,
+    /// inflated − target; non-zero mainly when the balloon length was fixed.
+    pub length_mismatch_mm: f64,
+    pub uninflated_length_to_cut_mm: f64,
+    pub evaluations: usize,
+    pub elapsed_s: f64,
+    pub termination: Termination,
+    pub seed: u64,
+    pub profiles: Profiles,
+}
+
+impl DesignReport {
+    pub fn new(
+        outcome: &DesignOutcome,
+        target: &TargetProfiles,
+        objective: &ObjectiveOptions,
+        seed: u64,
+    ) -> DesignReport {
+        let (curvature, torsion) = target.profiles_of(&outcome.simulation.centreline, objective);
+        DesignReport {
+            design: outcome.design.clone(),
+            centreline_mm: outcome
+                .simulation
+                .centreline
+                .points()
+                .iter()
+                .map(|p| [p.x, p.y, p.z])
+                .collect(),
+            metrics: outcome.metrics,
+            seed_objective: outcome.seed_objective,
+            target_length_mm: outcome.target_length_mm,
+            inflated_length_mm: outcome.inflated_length_mm,
+            length_mismatch_mm: outcome.inflated_length_mm - outcome.target_length_mm,
+            uninflated_length_to_cut_mm: outcome.uninflated_length_to_cut_mm,
+            evaluations: outcome.evaluations,
+            elapsed_s: outcome.elapsed.as_secs_f64(),
+            termination: outcome.termination,
+            seed,
+            profiles: Profiles {
+                target_curvature_per_mm: target.curvature.clone(),
+                target_torsion_per_mm: target.torsion.clone(),
+                curvature_per_mm: curvature,
+                torsion_per_mm: torsion,
+            },
+        }
+    }
+}

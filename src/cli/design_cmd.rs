@@ -1,0 +1,175 @@
+//! `patchwork design CURVE --out DIR [--seed S] [--budget EVALS] [--threads N] [--json]`.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use patchwork_core::design::Design;
+use patchwork_core::fabrication::{
+    cut_file_dxf, patch_table_csv, profiles_svg, template_dxf, template_svg,
+};
+use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::inverse::{DesignReport, DesignRequest, Stage, TargetProfiles, design};
+
+use super::input::{CurveInput, read_text_argument};
+use super::output::{emit, emit_json};
+
+#[derive(Args)]
+#[command(allow_negative_numbers = true)]
+pub struct DesignArgs {
+    #[command(flatten)]
+    input: CurveInput,
+    /// Folder for design.json, design.csv, patches.dxf, template.dxf,
+    /// template.svg and profiles.svg (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+    /// Random seed: the same seed reproduces the same design.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Forward simulations the search may spend.
+    #[arg(long, default_value_t = 600)]
+    budget: usize,
+    /// Threads evaluating a generation in parallel.
+    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+    threads: usize,
+    /// Print design.json to stdout.
+    #[arg(long)]
+    json: bool,
+    /// Balloon, patch material and pressure as design JSON (patches ignored);
+    /// defaults to the reference scene.
+    #[arg(long)]
+    options: Option<String>,
+    /// Keep the balloon length from --options instead of choosing it so the
+    /// inflated balloon is as long as the curve (the mismatch is reported).
+    #[arg(long)]
+    fix_length: bool,
+    /// Element size of the search model (mm); verification uses half of it.
+    #[arg(long, default_value_t = 2.0)]
+    mesh_mm: f64,
+}
+
+pub fn run(args: DesignArgs) -> Result<()> {
+    let target = args.input.load()?;
+    let base: Design = match &args.options {
+        Some(name) => {
+            let text = read_text_argument(name)?;
+            let mut value: serde_json::Value =
+                serde_json::from_str(&text).with_context(|| format!("{name}: invalid JSON"))?;
+            if let Some(object) = value.as_object_mut() {
+                object.entry("patches").or_insert(serde_json::json!([]));
+            }
+            serde_json::from_value(value)
+                .with_context(|| format!("{name}: invalid design options"))?
+        }
+        None => Design::reference(vec![]),
+    };
+    anyhow::ensure!(args.budget >= 1, "--budget must be at least 1");
+    anyhow::ensure!(args.threads >= 1, "--threads must be at least 1");
+    anyhow::ensure!(
+        args.mesh_mm.is_finite() && args.mesh_mm > 0.0,
+        "--mesh-mm must be a positive number"
+    );
+    let request = DesignRequest {
+        base,
+        fix_length: args.fix_length,
+        budget: args.budget,
+        seed: args.seed,
+        threads: args.threads,
+        search_mesh: MeshSpec::uniform(args.mesh_mm),
+        verify_mesh: MeshSpec::uniform(args.mesh_mm / 2.0),
+        ..DesignRequest::default()
+    };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    let terminal = std::io::stderr().is_terminal();
+    let cancel = AtomicBool::new(false);
+    let outcome = design(&target, &request, &cancel, &mut |p| {
+        if terminal {
+            let stage = match p.stage {
+                Stage::Seed => "seed  ",
+                Stage::Search => "search",
+                Stage::Verify => "verify",
+            };
+            eprint!(
+                "\r{stage} generation {:>4}  evaluations {:>5}/{}  best {:>9.5}  σ {:.3}  {:>6.1} s ",
+                p.generation, p.evaluations, args.budget, p.best_objective, p.sigma, p.elapsed_s
+            );
+        }
+    })?;
+    if terminal {
+        eprintln!();
+    }
+    let profiles = TargetProfiles::new(&target, request.rings, &request.objective);
+    let report = DesignReport::new(&outcome, &profiles, &request.objective, args.seed);
+    write_files(&args.out, &report)?;
+    if args.json {
+        return emit_json(&report);
+    }
+    emit(&summary(&report, &args.out))
+}
+
+fn write_files(dir: &std::path::Path, report: &DesignReport) -> Result<()> {
+    let write = |name: &str, bytes: &[u8]| {
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).with_context(|| format!("cannot write {}", path.display()))
+    };
+    let mut json = serde_json::to_string_pretty(report)?;
+    json.push('\n');
+    write("design.json", json.as_bytes())?;
+    write("design.csv", patch_table_csv(&report.design).as_bytes())?;
+    write(
+        "patches.dxf",
+        &cut_file_dxf(&report.design).map_err(anyhow::Error::msg)?,
+    )?;
+    write(
+        "template.dxf",
+        &template_dxf(&report.design).map_err(anyhow::Error::msg)?,
+    )?;
+    write("template.svg", template_svg(&report.design).as_bytes())?;
+    let p = &report.profiles;
+    let svg = profiles_svg(
+        (&p.target_curvature_per_mm, &p.target_torsion_per_mm),
+        (&p.curvature_per_mm, &p.torsion_per_mm),
+    );
+    write("profiles.svg", svg.as_bytes())
+}
+
+fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
+    let m = &r.metrics;
+    let mut s = format!(
+        "target {:.1} mm; inflated {:.1} mm; cut the balloon {:.1} mm long\n\
+         shape error {:.2} mm ({:.2} % of length); objective {:.4} (KSA seed {:.4}); DTW κ {:.4}, τ {:.4}\n\
+         {} evaluations in {:.1} s ({:?})\n\
+         patch    X (mm)    Y (mm)    H (mm)    W (mm)    Θ (deg)\n",
+        r.target_length_mm,
+        r.inflated_length_mm,
+        r.uninflated_length_to_cut_mm,
+        m.shape_error_mm,
+        m.shape_error_percent,
+        m.objective,
+        r.seed_objective,
+        m.dtw_curvature,
+        m.dtw_torsion,
+        r.evaluations,
+        r.elapsed_s,
+        r.termination
+    );
+    for (i, p) in r.design.patches.iter().enumerate() {
+        s.push_str(&format!(
+            "P{:<5} {:>8.3}  {:>8.2}  {:>8.2}  {:>8.2}  {:>9.2}\n",
+            i + 1,
+            p.x_mm,
+            p.y_mm,
+            p.h_mm,
+            p.w_mm,
+            p.theta_deg
+        ));
+    }
+    s.push_str(&format!(
+        "files in {}: design.json design.csv patches.dxf template.dxf template.svg profiles.svg\n",
+        dir.display()
+    ));
+    s
+}
