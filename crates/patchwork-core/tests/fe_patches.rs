@@ -81,12 +81,14 @@ fn tube_bends_towards_the_patch() {
 fn moving_the_patch_rotates_the_bending_plane() {
     let circumference = TAU * R0;
     // (element size, shift, tolerance on the plane's angle in degrees, relative
-    // tolerance on the bend angle). A shift the mesh shares is exact. One it does
+    // tolerance on the bend angle). A shift the mesh shares is exact to the
+    // solver's tolerance (relative residual 1e-9; the two solves may start from
+    // different kinematic estimates, leaving ~1e-7 differences). One it does
     // not meets different element edges: at 1 mm the measured differences are
     // 1.3° and 0.03 %. (At 2 mm they are 0.5° and 10 %: a uniform 2 mm mesh is
     // too coarse for a 3 mm-wide patch; see BENCHMARKS.md.)
     for (h, shift, tolerance_deg, tolerance_bend) in [
-        (2.0, circumference / 5.0, 1e-6, 1e-9),
+        (2.0, circumference / 5.0, 1e-4, 1e-6),
         (1.0, circumference * 50.0 / 360.0, 2.0, 0.01),
     ] {
         let base = run(vec![patch(0.0, 0.0)], h);

@@ -1,0 +1,116 @@
+//! A bent starting state for Newton: a kinematic estimate of where the patches
+//! take the tube, so the solve does not have to swing long segments through
+//! large rotations from a straight start.
+//!
+//! Around a cross-section at material height Y, the wall stretches axially by
+//! λ(φ), with λ − 1 inversely proportional to the local membrane stiffness μt
+//! (equal axial force per unit width: bare wall λ₂, patched wall much less).
+//! A thin tube whose fibres stretch as λ(φ) = λ̄ (1 − κ r cos(φ − φₙ)) is bent
+//! with curvature κ towards φₙ, so the first Fourier mode of λ(φ) gives the
+//! curvature vector. Integrating it along Y like a rod (frame transported
+//! without twist) gives a centreline; the rings sit around it at the inflated
+//! radius.
+
+use std::f64::consts::TAU;
+
+use nalgebra::{Rotation3, Unit};
+
+use super::mesh::TubeMesh;
+use super::overlap::overlap_area;
+use super::tube_theory::TubeState;
+use crate::curve::Point;
+use crate::design::{Bonding, Design};
+
+/// Samples around the circumference for the coverage estimate.
+const SAMPLES: usize = 72;
+
+/// Node positions of the kinematic estimate.
+pub fn kinematic_state(
+    design: &Design,
+    mesh: &TubeMesh,
+    state: TubeState,
+    scale: f64,
+) -> Vec<Point> {
+    let r0 = mesh.radius;
+    let c = mesh.circumference();
+    let wall = design.balloon.material.shear_modulus() * design.balloon.wall_mm;
+    let patch = design.patch.material.shear_modulus() * design.patch.thickness_mm;
+    let (mut centre, mut frame) = (Point::zeros(), Rotation3::identity());
+    let mut rings = Vec::with_capacity(mesh.ring_y.len());
+    let mut previous_y = 0.0;
+    for &y in &mesh.ring_y {
+        let (mean, kx, ky) = bending(design, y, c, wall, patch, state.axial);
+        let ds = (y - previous_y) * mean;
+        previous_y = y;
+        let r = state.hoop * r0;
+        // Curvature vector in the ring's material axes, towards lower stretch.
+        let curvature = Point::new(-kx, -ky, 0.0) * (scale / (mean * r));
+        let tangent = frame * Point::z();
+        centre += tangent * ds;
+        let k = frame * curvature;
+        let axis = tangent.cross(&k);
+        if axis.norm() > 1e-12 {
+            frame = Rotation3::from_axis_angle(&Unit::new_normalize(axis), k.norm() * ds) * frame;
+        }
+        rings.push((centre, frame));
+    }
+    let tube_nodes = mesh.ring_y.len() * mesh.around;
+    let (top_centre, top_frame) = *rings.last().expect("at least two rings");
+    mesh.nodes
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            if mesh.fixed[i] {
+                return *p;
+            }
+            if i < tube_nodes {
+                let (centre, frame) = rings[i / mesh.around];
+                let hoop = 1.0 + (state.hoop - 1.0) * (1.0 - (-p.z / r0).exp());
+                centre + frame * Point::new(p.x * hoop, p.y * hoop, 0.0)
+            } else {
+                let height = p.z - mesh.length;
+                let rim = (1.0 - (height / r0).clamp(0.0, 1.0).powi(2)).sqrt();
+                let hoop = 1.0 + (state.hoop - 1.0) * rim;
+                top_centre
+                    + top_frame * Point::new(p.x * hoop, p.y * hoop, height * state.hoop.sqrt())
+            }
+        })
+        .collect()
+}
+
+/// Mean axial stretch and the cos/sin Fourier coefficients of λ(φ) at height y.
+fn bending(design: &Design, y: f64, c: f64, wall: f64, patch: f64, axial: f64) -> (f64, f64, f64) {
+    let (mut mean, mut a, mut b) = (0.0, 0.0, 0.0);
+    let h = c / SAMPLES as f64;
+    for k in 0..SAMPLES {
+        let x = (k as f64 + 0.5) * h;
+        // Coverage of a small square cell around (x, y).
+        let cell = [
+            [x - h / 2.0, y - h / 2.0],
+            [x + h / 2.0, y - h / 2.0],
+            [x + h / 2.0, y + h / 2.0],
+        ];
+        let cell2 = [
+            [x - h / 2.0, y - h / 2.0],
+            [x + h / 2.0, y + h / 2.0],
+            [x - h / 2.0, y + h / 2.0],
+        ];
+        let covered: f64 = design
+            .patches
+            .iter()
+            .map(|p| overlap_area(&cell, p, c) + overlap_area(&cell2, p, c))
+            .sum::<f64>()
+            / (h * h);
+        let share = covered.min(1.0);
+        let stiffness = match design.patch.bonding {
+            Bonding::Replace => wall * (1.0 - share) + patch * share,
+            Bonding::Laminate => wall + patch * share,
+        };
+        let lambda = 1.0 + (axial - 1.0) * wall / stiffness;
+        let phi = TAU * x / c;
+        mean += lambda / SAMPLES as f64;
+        a += 2.0 * lambda * phi.cos() / SAMPLES as f64;
+        b += 2.0 * lambda * phi.sin() / SAMPLES as f64;
+    }
+    (mean, a, b)
+}
