@@ -8,8 +8,7 @@ use super::geometry::{cut_layout, patch_outline};
 use crate::design::Design;
 
 fn polygon(drawing: &mut Drawing, corners: &[[f64; 2]]) {
-    let mut poly = LwPolyline::default();
-    poly.vertices = corners
+    let vertices = corners
         .iter()
         .map(|c| LwPolylineVertex {
             x: c[0],
@@ -17,15 +16,21 @@ fn polygon(drawing: &mut Drawing, corners: &[[f64; 2]]) {
             ..Default::default()
         })
         .collect();
+    let mut poly = LwPolyline {
+        vertices,
+        ..Default::default()
+    };
     poly.set_is_closed(true);
     drawing.add_entity(Entity::new(EntityType::LwPolyline(poly)));
 }
 
 fn text(drawing: &mut Drawing, x: f64, y: f64, height: f64, value: String) {
-    let mut t = Text::default();
-    t.location = Point::new(x, y, 0.0);
-    t.text_height = height;
-    t.value = value;
+    let t = Text {
+        location: Point::new(x, y, 0.0),
+        text_height: height,
+        value,
+        ..Default::default()
+    };
     drawing.add_entity(Entity::new(EntityType::Text(t)));
 }
 
