@@ -386,8 +386,9 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
     let target_dir = dir.join("target");
     let truth = r#"{"balloon": {"length_mm": 100}, "patches": [{"x_mm": 0, "y_mm": 50, "h_mm": 20, "w_mm": 2.5, "theta_deg": 10}]}"#;
     let out = target_dir.to_string_lossy().to_string();
+    // The target at 1 mm: the fidelity `design` verifies with (half of --mesh-mm 2).
     assert!(
-        patchwork_with_stdin(&["simulate", "-", "--out", &out], truth)
+        patchwork_with_stdin(&["simulate", "-", "--mesh-mm", "1", "--out", &out], truth)
             .status
             .success()
     );
@@ -420,9 +421,10 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
     ] {
         assert!(!report[key].is_null(), "{key} missing");
     }
+    let cut = report["uninflated_length_to_cut_mm"].as_f64().unwrap();
     assert!(
-        (report["uninflated_length_to_cut_mm"].as_f64().unwrap() - 100.0).abs() < 3.0,
-        "length from mechanics"
+        (cut - 100.0).abs() < 3.0,
+        "length from mechanics: {cut} mm for a 100 mm balloon"
     );
     assert!(
         report["metrics"]["objective"].as_f64().unwrap()

@@ -140,16 +140,18 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
     let m = &r.metrics;
     let mut s = format!(
         "target {:.1} mm; inflated {:.1} mm; cut the balloon {:.1} mm long\n\
-         shape error {:.2} mm ({:.2} % of length); objective {:.4} (KSA seed {:.4}); DTW κ {:.4}, τ {:.4}\n\
+         search model: objective {:.4} (KSA seed {:.4})\n\
+         verified:     shape error {:.2} mm ({:.2} % of length); objective {:.4}; DTW κ {:.4}, τ {:.4}\n\
          {} evaluations in {:.1} s ({:?})\n\
          patch    X (mm)    Y (mm)    H (mm)    W (mm)    Θ (deg)\n",
         r.target_length_mm,
         r.inflated_length_mm,
         r.uninflated_length_to_cut_mm,
+        r.search_objective,
+        r.seed_objective,
         m.shape_error_mm,
         m.shape_error_percent,
         m.objective,
-        r.seed_objective,
         m.dtw_curvature,
         m.dtw_torsion,
         r.evaluations,

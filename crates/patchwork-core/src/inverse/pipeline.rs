@@ -121,8 +121,12 @@ pub struct DesignOutcome {
     pub seed_design: Design,
     /// The verified simulation of `design`.
     pub simulation: Simulation,
+    /// Metrics of the verified simulation (fine mesh).
     pub metrics: Metrics,
+    /// Objective of the KSA seed and of the best design, both on the search
+    /// model (comparable with each other, not with `metrics.objective`).
     pub seed_objective: f64,
+    pub search_objective: f64,
     pub target_length_mm: f64,
     pub inflated_length_mm: f64,
     /// The uninflated balloon length to cut (= design.balloon.length_mm).
@@ -189,7 +193,15 @@ pub fn design(
             patches: seed_patches.clone(),
             ..base.clone()
         };
-        let sim = simulate(&trial, &search).map_err(DesignRunError::Seed)?;
+        // The length to cut comes from the most accurate model of the run (the
+        // verification mesh): the coarse search mesh's polygonal section
+        // understates the axial stretch by several percent.
+        let verify = SimulateOptions {
+            mesh: request.verify_mesh,
+            rings: request.rings,
+            ..SimulateOptions::default()
+        };
+        let sim = simulate(&trial, &verify).map_err(DesignRunError::Seed)?;
         let ratio = target_length / sim.inflated_length_mm;
         length *= ratio;
         for p in &mut seed_patches {
@@ -295,6 +307,7 @@ pub fn design(
         simulation,
         metrics,
         seed_objective,
+        search_objective: best.0,
         target_length_mm: target_length,
         evaluations,
         termination,

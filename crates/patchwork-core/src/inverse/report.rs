@@ -22,8 +22,11 @@ pub struct DesignReport {
     pub design: Design,
     /// The predicted (verified) inflated centreline.
     pub centreline_mm: Vec<[f64; 3]>,
+    /// Verified on the fine mesh.
     pub metrics: Metrics,
+    /// KSA seed and best design on the search model (comparable with each other).
     pub seed_objective: f64,
+    pub search_objective: f64,
     pub target_length_mm: f64,
     pub inflated_length_mm: f64,
     /// inflated − target; non-zero mainly when the balloon length was fixed.
@@ -55,6 +58,7 @@ impl DesignReport {
                 .collect(),
             metrics: outcome.metrics,
             seed_objective: outcome.seed_objective,
+            search_objective: outcome.search_objective,
             target_length_mm: outcome.target_length_mm,
             inflated_length_mm: outcome.inflated_length_mm,
             length_mismatch_mm: outcome.inflated_length_mm - outcome.target_length_mm,
