@@ -14,7 +14,7 @@ use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::inverse::{DesignReport, DesignRequest, Stage, TargetProfiles, design};
 
 use super::input::{CurveInput, read_text_argument};
-use super::output::{emit, emit_json};
+use super::output::{emit, emit_json, patch_table};
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
@@ -142,8 +142,7 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         "target {:.1} mm; inflated {:.1} mm; cut the balloon {:.1} mm long\n\
          search model: objective {:.4} (KSA seed {:.4})\n\
          verified:     shape error {:.2} mm ({:.2} % of length); objective {:.4}; DTW κ {:.4}, τ {:.4}\n\
-         {} evaluations in {:.1} s ({:?})\n\
-         patch    X (mm)    Y (mm)    H (mm)    W (mm)    Θ (deg)\n",
+         {} evaluations in {:.1} s ({:?})\n",
         r.target_length_mm,
         r.inflated_length_mm,
         r.uninflated_length_to_cut_mm,
@@ -158,17 +157,7 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         r.elapsed_s,
         r.termination
     );
-    for (i, p) in r.design.patches.iter().enumerate() {
-        s.push_str(&format!(
-            "P{:<5} {:>8.3}  {:>8.2}  {:>8.2}  {:>8.2}  {:>9.2}\n",
-            i + 1,
-            p.x_mm,
-            p.y_mm,
-            p.h_mm,
-            p.w_mm,
-            p.theta_deg
-        ));
-    }
+    s.push_str(&patch_table(&r.design.patches, |_| ""));
     s.push_str(&format!(
         "files in {}: design.json design.csv patches.dxf template.dxf template.svg profiles.svg\n",
         dir.display()

@@ -7,7 +7,7 @@ use patchwork_core::ksa::{KsaParams, Stretch, ksa};
 use serde::Serialize;
 
 use super::input::CurveInput;
-use super::output::{emit, emit_json};
+use super::output::{emit, emit_json, patch_table};
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
@@ -92,23 +92,13 @@ fn table(report: &KsaReport, params: &KsaParams) -> String {
     if report.patches.is_empty() {
         text.push_str("no patches: the curve never exceeds the curvature tolerance\n");
     } else {
-        text.push_str("patch    X (mm)    Y (mm)    H (mm)    W (mm)    Θ (deg)\n");
-        for (i, p) in report.patches.iter().enumerate() {
-            let mark = if report.clipped.contains(&i) {
+        text.push_str(&patch_table(&report.patches, |i| {
+            if report.clipped.contains(&i) {
                 "  clipped at the balloon's end"
             } else {
                 ""
-            };
-            text.push_str(&format!(
-                "P{:<5} {:>8.3}  {:>8.2}  {:>8.2}  {:>8.2}  {:>9.2}{mark}\n",
-                i + 1,
-                p.x_mm,
-                p.y_mm,
-                p.h_mm,
-                p.w_mm,
-                round_to(p.theta_deg, 2)
-            ));
-        }
+            }
+        }));
     }
     if report.runs_off_balloon > 0 {
         text.push_str(&format!(
@@ -118,10 +108,4 @@ fn table(report: &KsaReport, params: &KsaParams) -> String {
         ));
     }
     text
-}
-
-/// Rounds for display so a value like −1e−12 shows as 0.00, not −0.00.
-fn round_to(value: f64, decimals: i32) -> f64 {
-    let scale = 10f64.powi(decimals);
-    (value * scale).round() / scale + 0.0
 }

@@ -24,3 +24,27 @@ pub fn emit_json(value: &impl Serialize) -> Result<()> {
     text.push('\n');
     emit(&text)
 }
+
+/// The human patch table shared by `ksa` and `design`; `note(i)` adds a
+/// remark after row i.
+pub fn patch_table(
+    patches: &[patchwork_core::design::Patch],
+    note: impl Fn(usize) -> &'static str,
+) -> String {
+    let mut text = String::from("patch    X (mm)    Y (mm)    H (mm)    W (mm)    Θ (deg)\n");
+    for (i, p) in patches.iter().enumerate() {
+        // Rounded for display so −1e−12 shows as 0.00, not −0.00.
+        let theta = (p.theta_deg * 100.0).round() / 100.0 + 0.0;
+        text.push_str(&format!(
+            "P{:<5} {:>8.3}  {:>8.2}  {:>8.2}  {:>8.2}  {:>9.2}{}\n",
+            i + 1,
+            p.x_mm,
+            p.y_mm,
+            p.h_mm,
+            p.w_mm,
+            theta,
+            note(i)
+        ));
+    }
+    text
+}

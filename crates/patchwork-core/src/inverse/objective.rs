@@ -51,26 +51,12 @@ pub struct TargetProfiles {
 impl TargetProfiles {
     /// Samples the target at `samples` equal fractions of its length.
     pub fn new(target: &Curve, samples: usize, options: &ObjectiveOptions) -> TargetProfiles {
-        let fine = target
-            .resample((target.len() * 4).clamp(400, 20_000))
-            .unwrap_or_else(|_| target.clone());
-        let fine = fine
-            .smoothed(options.smooth_fraction * fine.length())
-            .unwrap_or(fine);
-        let analysis = analyse(&fine, &AnalysisOptions::default());
-        let length = fine.length();
-        let at = |values: &[f64], t: f64| interpolate(&analysis.s, values, t * length);
-        let fractions: Vec<f64> = (0..samples)
-            .map(|i| i as f64 / (samples - 1) as f64)
-            .collect();
-        let curvature: Vec<f64> = fractions
-            .iter()
-            .map(|&t| at(&analysis.curvature, t))
-            .collect();
-        let torsion: Vec<f64> = fractions
-            .iter()
-            .map(|&t| at(&analysis.torsion, t))
-            .collect();
+        let (curvature, torsion) = smoothed_profiles(
+            target,
+            samples,
+            (target.len() * 4).clamp(400, 20_000),
+            options,
+        );
         let torsion_mask: Vec<bool> = curvature
             .iter()
             .map(|&k| k > options.torsion_kappa_min)
@@ -93,21 +79,7 @@ impl TargetProfiles {
         options: &ObjectiveOptions,
     ) -> (Vec<f64>, Vec<f64>) {
         let n = self.curvature.len();
-        let fine = centreline
-            .resample((n * 8).clamp(200, 20_000))
-            .unwrap_or_else(|_| centreline.clone());
-        let fine = fine
-            .smoothed(options.smooth_fraction * fine.length())
-            .unwrap_or(fine);
-        let analysis = analyse(&fine, &AnalysisOptions::default());
-        let length = fine.length();
-        let at = |values: &[f64], i: usize| {
-            interpolate(&analysis.s, values, length * i as f64 / (n - 1) as f64)
-        };
-        (
-            (0..n).map(|i| at(&analysis.curvature, i)).collect(),
-            (0..n).map(|i| at(&analysis.torsion, i)).collect(),
-        )
+        smoothed_profiles(centreline, n, (n * 8).clamp(200, 20_000), options)
     }
 
     /// The objective for a simulated centreline.
@@ -147,6 +119,33 @@ impl TargetProfiles {
         }
         if f.is_finite() { f } else { f64::INFINITY }
     }
+}
+
+/// κ and τ at `samples` equal fractions of the curve's length, after resampling
+/// to `resolution` points and smoothing with σ = `smooth_fraction` of the length.
+fn smoothed_profiles(
+    curve: &Curve,
+    samples: usize,
+    resolution: usize,
+    options: &ObjectiveOptions,
+) -> (Vec<f64>, Vec<f64>) {
+    let fine = curve.resample(resolution).unwrap_or_else(|_| curve.clone());
+    let fine = fine
+        .smoothed(options.smooth_fraction * fine.length())
+        .unwrap_or(fine);
+    let analysis = analyse(&fine, &AnalysisOptions::default());
+    let length = fine.length();
+    let at = |values: &[f64], i: usize| {
+        interpolate(
+            &analysis.s,
+            values,
+            length * i as f64 / (samples - 1) as f64,
+        )
+    };
+    (
+        (0..samples).map(|i| at(&analysis.curvature, i)).collect(),
+        (0..samples).map(|i| at(&analysis.torsion, i)).collect(),
+    )
 }
 
 fn masked(values: &[f64], mask: &[bool]) -> Vec<f64> {
