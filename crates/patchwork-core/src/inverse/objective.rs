@@ -20,9 +20,10 @@ pub struct ObjectiveOptions {
     /// Weight of the shape error (RMS / length); 0 leaves it out.
     pub shape_weight: f64,
     pub torsion_kappa_min: f64,
-    /// Both centrelines are smoothed with σ = this fraction of their length
-    /// before κ and τ are taken: τ is a third derivative of ring centres from
-    /// circle fits, and unsmoothed it is mostly noise.
+    /// Both centrelines are smoothed with σ = this fraction of their length (but
+    /// at least 2.5 sample spacings) before κ and τ are taken: τ is a third
+    /// derivative of ring centres from circle fits, and unsmoothed it is mostly
+    /// noise.
     pub smooth_fraction: f64,
 }
 
@@ -129,10 +130,13 @@ fn smoothed_profiles(
     resolution: usize,
     options: &ObjectiveOptions,
 ) -> (Vec<f64>, Vec<f64>) {
+    // σ never below 2.5 of the curve's own sample spacings: a fraction of the
+    // length alone can be smaller than the gap between ring centres, and then
+    // smooths nothing.
+    let spacing = curve.length() / (curve.len() - 1) as f64;
+    let sigma = (options.smooth_fraction * curve.length()).max(2.5 * spacing);
     let fine = curve.resample(resolution).unwrap_or_else(|_| curve.clone());
-    let fine = fine
-        .smoothed(options.smooth_fraction * fine.length())
-        .unwrap_or(fine);
+    let fine = fine.smoothed(sigma).unwrap_or(fine);
     let analysis = analyse(&fine, &AnalysisOptions::default());
     let length = fine.length();
     let at = |values: &[f64], i: usize| {
