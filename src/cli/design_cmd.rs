@@ -11,7 +11,7 @@ use patchwork_core::fabrication::{
     cut_file_dxf, patch_table_csv, profiles_svg, template_dxf, template_svg,
 };
 use patchwork_core::fe::mesh::MeshSpec;
-use patchwork_core::inverse::{DesignReport, DesignRequest, Stage, TargetProfiles, design};
+use patchwork_core::inverse::{DesignReport, DesignRequest, Stage, design};
 
 use super::input::{CurveInput, read_text_argument};
 use super::output::{emit, emit_json, patch_table};
@@ -101,8 +101,7 @@ pub fn run(args: DesignArgs) -> Result<()> {
     if terminal {
         eprintln!();
     }
-    let profiles = TargetProfiles::new(&target, request.rings, &request.objective);
-    let report = DesignReport::new(&outcome, &profiles, &request.objective, args.seed);
+    let report = DesignReport::new(&outcome, args.seed);
     write_files(&args.out, &report)?;
     if args.json {
         return emit_json(&report);

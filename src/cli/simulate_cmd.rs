@@ -75,10 +75,10 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         axial_stretch_mid: sim.axial_stretch_mid,
         curvature_per_mm: sim.curvature.clone(),
         torsion_per_mm: sim.torsion.clone(),
-        newton_iterations: sim.newton_iterations,
+        newton_iterations: sim.stats.iterations,
         elapsed_ms: sim.elapsed.as_secs_f64() * 1e3,
-        stable: sim.stable,
-        relative_residual: sim.residual,
+        stable: sim.stats.stable,
+        relative_residual: sim.stats.residual,
         volume_mm3: sim.volume_mm3,
     };
     if args.json {
@@ -89,10 +89,10 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         "converged   {} Newton iterations, {} continuation steps, {:.0} ms ({})\n\
          inflated    length {:.1} mm, mid-tube hoop stretch {:.3}, axial stretch {:.3}\n\
          tip         ({:.1}, {:.1}, {:.1}) mm; max curvature {:.4} mm⁻¹\n",
-        sim.newton_iterations,
+        sim.stats.iterations,
         sim.continuation_steps,
         report.elapsed_ms,
-        if sim.stable {
+        if sim.stats.stable {
             "stable"
         } else {
             "NOT stable: tangent indefinite at the solution"

@@ -39,7 +39,7 @@ fn run(patches: Vec<Patch>, element_mm: f64) -> Simulation {
         ..SimulateOptions::default()
     };
     let sim = simulate(&design(patches), &options).expect("converges");
-    assert!(sim.stable);
+    assert!(sim.stats.stable);
     sim
 }
 

@@ -4,25 +4,13 @@
 
 use std::time::Duration;
 
+use patchwork_core::cmaes::SeededRng;
 use patchwork_core::design::{Design, Patch};
 use patchwork_core::fe::newton::NewtonOptions;
 use patchwork_core::fe::{SimulateOptions, simulate};
 
-/// SplitMix64: a tiny, fully reproducible generator for test inputs.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
+fn uniform(rng: &mut SeededRng, lo: f64, hi: f64) -> f64 {
+    lo + (hi - lo) * rng.uniform()
 }
 
 /// KSA seeds of the Hilbert reference curve (DESIGN.md), mm.
@@ -30,7 +18,7 @@ const SEED_Y: [f64; 6] = [43.3, 87.9, 128.2, 163.9, 204.8, 248.8];
 
 #[test]
 fn random_designs_converge_or_fail_with_a_typed_error() {
-    let mut rng = SplitMix(20231121);
+    let mut rng = SeededRng::new(20231121);
     let options = SimulateOptions {
         newton: NewtonOptions {
             time_limit: Duration::from_secs(20),
@@ -45,18 +33,18 @@ fn random_designs_converge_or_fail_with_a_typed_error() {
         let patches = SEED_Y
             .iter()
             .map(|&y| Patch {
-                x_mm: rng.uniform(0.0, circumference),
-                y_mm: y + rng.uniform(-5.0, 5.0),
-                h_mm: rng.uniform(10.0, 30.0),
-                w_mm: rng.uniform(1.0, 3.0),
-                theta_deg: rng.uniform(-45.0, 45.0),
+                x_mm: uniform(&mut rng, 0.0, circumference),
+                y_mm: y + uniform(&mut rng, -5.0, 5.0),
+                h_mm: uniform(&mut rng, 10.0, 30.0),
+                w_mm: uniform(&mut rng, 1.0, 3.0),
+                theta_deg: uniform(&mut rng, -45.0, 45.0),
             })
             .collect();
         match simulate(&Design::reference(patches), &options) {
             Ok(sim) => {
                 converged += 1;
-                iterations.push(sim.newton_iterations);
-                unstable += usize::from(!sim.stable);
+                iterations.push(sim.stats.iterations);
+                unstable += usize::from(!sim.stats.stable);
                 assert!(
                     sim.centreline
                         .points()

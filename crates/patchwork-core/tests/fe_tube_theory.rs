@@ -146,7 +146,7 @@ fn check_fe(model: Model, material: Material, mu: f64, hoop: f64, label: &str) {
         100.0 * ea
     );
     assert!(eh.abs() < 0.01 && ea.abs() < 0.01, "{label}: outside 1 %");
-    assert!(sim.stable, "{label}: equilibrium not stable");
+    assert!(sim.stats.stable, "{label}: equilibrium not stable");
 }
 
 #[test]

@@ -20,9 +20,9 @@ pub struct Frame {
 
 /// Frenet frames. Where the normal is undefined (κ below the floor) the last
 /// defined normal is carried over, projected normal to the tangent; before the
-/// first defined sample the Bishop frame stands in. Returns the frames and whether
-/// each was defined by the curve itself.
-pub fn frenet_frames(analysis: &Analysis) -> (Vec<Frame>, Vec<bool>) {
+/// first defined sample the Bishop frame stands in. Which frames the curve itself
+/// defines is `analysis.torsion_defined`.
+pub fn frenet_frames(analysis: &Analysis) -> Vec<Frame> {
     let bishop = bishop_frames(analysis);
     let mut frames = Vec::with_capacity(analysis.len());
     let mut carried: Option<Point> = None;
@@ -44,7 +44,7 @@ pub fn frenet_frames(analysis: &Analysis) -> (Vec<Frame>, Vec<bool>) {
             second: t.cross(&normal),
         });
     }
-    (frames, analysis.torsion_defined.clone())
+    frames
 }
 
 /// Rotation-minimising frames by the double-reflection method (Wang, Jüttler,

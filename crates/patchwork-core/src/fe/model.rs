@@ -175,28 +175,30 @@ impl Model {
     /// fills values, followed by one diagonal entry per DOF (for shifts).
     pub fn pattern(&self) -> Vec<Pair<usize, usize>> {
         let mut pairs = Vec::new();
-        self.for_each_entry(|_, row, col| pairs.push(Pair::new(row, col)));
+        for t in 0..self.triangles.len() {
+            self.triangle_entries(t, |_, _, row, col| pairs.push(Pair::new(row, col)));
+        }
         pairs.extend((0..self.dof_count).map(|i| Pair::new(i, i)));
         pairs
     }
 
-    /// Visits (triangle-local 9×9 index, global row, global col) for every
-    /// lower-triangle entry between free DOFs, in a fixed order.
-    fn for_each_entry(&self, mut visit: impl FnMut((usize, usize, usize), usize, usize)) {
-        for (t, tri) in self.triangles.iter().enumerate() {
-            for a in 0..3 {
-                let Some(da) = self.dof[tri.nodes[a]] else {
+    /// Visits (local row, local col in the 9×9 element matrix, global row,
+    /// global col) for every lower-triangle entry of triangle `t` between free
+    /// DOFs, in a fixed order: the same order for the pattern and the values.
+    fn triangle_entries(&self, t: usize, mut visit: impl FnMut(usize, usize, usize, usize)) {
+        let nodes = self.triangles[t].nodes;
+        for (a, &node_a) in nodes.iter().enumerate() {
+            let Some(da) = self.dof[node_a] else {
+                continue;
+            };
+            for (b, &node_b) in nodes.iter().enumerate() {
+                let Some(db) = self.dof[node_b] else {
                     continue;
                 };
-                for b in 0..3 {
-                    let Some(db) = self.dof[tri.nodes[b]] else {
-                        continue;
-                    };
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            if da + i >= db + j {
-                                visit((t, 3 * a + i, 3 * b + j), da + i, db + j);
-                            }
+                for i in 0..3 {
+                    for j in 0..3 {
+                        if da + i >= db + j {
+                            visit(3 * a + i, 3 * b + j, da + i, db + j);
                         }
                     }
                 }
@@ -231,7 +233,6 @@ impl Model {
     ) -> Option<f64> {
         gradient.fill(0.0);
         values.clear();
-        let mut blocks = Vec::with_capacity(self.triangles.len());
         let mut potential = 0.0;
         for (t, tri) in self.triangles.iter().enumerate() {
             let corners = self.corners(x, t);
@@ -246,9 +247,8 @@ impl Model {
                     }
                 }
             }
-            blocks.push(k);
+            self.triangle_entries(t, |i, j, _, _| values.push(k[(i, j)]));
         }
-        self.for_each_entry(|(t, i, j), _, _| values.push(blocks[t][(i, j)]));
         values.extend(std::iter::repeat_n(shift, self.dof_count));
         Some(potential)
     }

@@ -170,14 +170,14 @@ impl Solver {
                     residual,
                 });
             }
-            let diagonal_scale = mean_diagonal(&values, self.n);
+            let stiffness = stiffness_scale(&values);
             let (llt, used_shift, attempts) =
-                self.factor_with_shift(&mut values, shift, diagonal_scale, residual)?;
+                self.factor_with_shift(&mut values, shift, stiffness, residual)?;
             stats.factor_time += t1.elapsed();
             stats.factorisations += attempts;
             let t2 = Instant::now();
             // Decay the shift; once negligible, try plain Newton again.
-            shift = if used_shift > 1e-6 * diagonal_scale {
+            shift = if used_shift > 1e-6 * stiffness {
                 used_shift / 10.0
             } else {
                 0.0
@@ -227,7 +227,7 @@ impl Solver {
         &self,
         values: &mut [f64],
         start: f64,
-        diagonal_scale: f64,
+        stiffness: f64,
         residual: f64,
     ) -> Result<(Llt<usize, f64>, f64, usize), SolveError> {
         let shift_slots = values.len() - self.n;
@@ -238,7 +238,7 @@ impl Solver {
                 return Ok((llt, shift, attempt));
             }
             shift = if shift == 0.0 {
-                1e-8 * diagonal_scale
+                1e-8 * stiffness
             } else {
                 shift * 10.0
             };
@@ -278,21 +278,9 @@ fn values_without_shift(values: &mut [f64], n: usize) -> Vec<f64> {
     values.to_vec()
 }
 
+/// |P ∂V/∂u|, the size of the pressure load; the wall's stiffness scale when P = 0.
 fn load_scale(model: &Model, x: &[Point]) -> f64 {
-    // |P ∂V/∂x| over free DOFs, or the wall's stiffness scale when P = 0.
-    let mut g = vec![0.0; model.dof_count];
-    for tri in &model.triangles {
-        let corners = tri.nodes.map(|n| x[n]);
-        let dv = super::pressure::volume_gradient(&corners);
-        for a in 0..3 {
-            if let Some(d) = model.dof[tri.nodes[a]] {
-                for i in 0..3 {
-                    g[d + i] += model.pressure * dv[(i, a)];
-                }
-            }
-        }
-    }
-    let n = norm(&g);
+    let n = model.pressure.abs() * norm(&model.volume_gradient(x));
     if n > 0.0 {
         n
     } else {
@@ -300,12 +288,13 @@ fn load_scale(model: &Model, x: &[Point]) -> f64 {
     }
 }
 
-fn mean_diagonal(values: &[f64], n: usize) -> f64 {
-    // Shift slots are zero here, so the mean of |values| is a safe scale proxy.
+/// Mean magnitude of the stored tangent entries: the scale shifts are set
+/// against (shift slots hold zero when this is taken).
+fn stiffness_scale(values: &[f64]) -> f64 {
     let sum: f64 = values.iter().map(|v| v.abs()).sum();
-    (sum / values.len().max(1) as f64).max(1e-12) * (values.len() as f64 / n.max(1) as f64).min(1.0)
+    (sum / values.len().max(1) as f64).max(1e-12)
 }
 
-fn norm(v: &[f64]) -> f64 {
+pub(super) fn norm(v: &[f64]) -> f64 {
     v.iter().map(|a| a * a).sum::<f64>().sqrt()
 }

@@ -78,13 +78,12 @@ pub struct Simulation {
     pub axial_stretch_mid: f64,
     /// The closed-form bare-tube state used as the start.
     pub tube_state: TubeState,
-    pub newton_iterations: usize,
     pub continuation_steps: usize,
-    pub stable: bool,
-    pub residual: f64,
     pub volume_mm3: f64,
     pub elapsed: Duration,
-    /// Counts and times of all Newton solves (continuation steps included).
+    /// Newton iterations, final residual, stability, and times of the solves
+    /// that produced this state (continuation steps included; a failed warm or
+    /// kinematic attempt before them is not counted).
     pub stats: SolveStats,
     /// Fraction of each element covered by patches (for export and plots).
     pub patch_share: Vec<f64>,
@@ -130,23 +129,11 @@ pub fn simulate_from(
         reason,
     })?;
     let mut stats = SolveStats::default();
-    let mut iterations = 0;
     let mut steps = 0;
     if let Some(previous) = previous.filter(|p| same_mesh(&p.mesh, &model.mesh)) {
         let mut x = previous.positions.clone();
         if let Ok(s) = solver.solve(&model, &model.layers, &mut x, &options.newton) {
-            let stats = s;
-            return finish(
-                design,
-                options,
-                model,
-                x,
-                tube_state,
-                stats,
-                s.iterations,
-                1,
-                started,
-            );
+            return finish(design, options, model, x, tube_state, s, 1, started);
         }
     }
     // First try the kinematic (bent) start at full patch stiffness; if Newton
@@ -154,17 +141,7 @@ pub fn simulate_from(
     if !design.patches.is_empty() {
         let mut x = kinematic_state(design, &model.mesh, tube_state, KINEMATIC_SCALE);
         if let Ok(s) = solver.solve(&model, &model.layers, &mut x, &options.newton) {
-            return finish(
-                design,
-                options,
-                model,
-                x,
-                tube_state,
-                s,
-                s.iterations,
-                1,
-                started,
-            );
+            return finish(design, options, model, x, tube_state, s, 1, started);
         }
     }
     let mut x = initial_state(&model.mesh, tube_state);
@@ -176,7 +153,6 @@ pub fn simulate_from(
         let mut trial = x.clone();
         match solver.solve(&model, &layers, &mut trial, &options.newton) {
             Ok(s) => {
-                iterations += s.iterations;
                 steps += 1;
                 stats.accumulate(&s);
                 x = trial;
@@ -202,9 +178,7 @@ pub fn simulate_from(
             }
         }
     }
-    finish(
-        design, options, model, x, tube_state, stats, iterations, steps, started,
-    )
+    finish(design, options, model, x, tube_state, stats, steps, started)
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -215,7 +189,6 @@ fn finish(
     x: Vec<Point>,
     tube_state: TubeState,
     stats: SolveStats,
-    iterations: usize,
     steps: usize,
     started: Instant,
 ) -> Result<Simulation, SimulateError> {
@@ -229,6 +202,9 @@ fn finish(
     let dy = rings[mid + 1].y - rings[mid - 1].y;
     let axial_stretch_mid = centreline.arc_length()[mid + 1] - centreline.arc_length()[mid - 1];
     let volume_mm3 = model.volume(&x);
+    let Model {
+        mesh, patch_share, ..
+    } = model;
     Ok(Simulation {
         inflated_length_mm: centreline.length(),
         hoop_stretch_mid,
@@ -238,16 +214,13 @@ fn finish(
         centreline,
         rings,
         positions: x,
-        mesh: model.mesh.clone(),
+        mesh,
         tube_state,
-        newton_iterations: iterations,
         continuation_steps: steps,
-        stable: stats.stable,
-        residual: stats.residual,
         volume_mm3,
         elapsed: started.elapsed(),
         stats,
-        patch_share: model.patch_share.clone(),
+        patch_share,
     })
 }
 

@@ -21,7 +21,7 @@ use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 
 use super::element::Layer;
 use super::model::Model;
-use super::newton::{NewtonOptions, SolveError};
+use super::newton::{NewtonOptions, SolveError, norm};
 use crate::curve::Point;
 
 /// Sparse structures for volume-controlled solves of one model (full pattern,
@@ -77,7 +77,6 @@ impl VolumeSolver {
         let mut u = model.unknowns(x);
         let mut gradient = vec![0.0; self.n];
         let mut values = Vec::new();
-        let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
         let residual_of = |u: &[f64],
                            p: f64,
                            gradient: &mut [f64],

@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use serde::{Deserialize, Serialize};
 
 use super::objective::{ObjectiveOptions, TargetProfiles};
+use super::report::Profiles;
 use super::variables::{DesignSpace, Freedom, VariableBounds, VariableError};
 use crate::cmaes::{Bounds, Optimizer, Progress, RunOptions, Termination};
 use crate::curve::{Curve, dtw, shape_error};
@@ -123,6 +124,8 @@ pub struct DesignOutcome {
     pub simulation: Simulation,
     /// Metrics of the verified simulation (fine mesh).
     pub metrics: Metrics,
+    /// Target and verified κ, τ on the objective's sampling.
+    pub profiles: Profiles,
     /// Objective of the KSA seed and of the best design, both on the search
     /// model (comparable with each other, not with `metrics.objective`).
     pub seed_objective: f64,
@@ -181,6 +184,11 @@ pub fn design(
         rings: request.rings,
         ..SimulateOptions::default()
     };
+    let verify = SimulateOptions {
+        mesh: request.verify_mesh,
+        rings: request.rings,
+        ..SimulateOptions::default()
+    };
     let mut seed_patches = seed(target, &base, length, request)?;
     if !request.fix_length && !seed_patches.is_empty() {
         // Patches stretch less than bare wall: correct the length once from a
@@ -196,11 +204,6 @@ pub fn design(
         // The length to cut comes from the most accurate model of the run (the
         // verification mesh): the coarse search mesh's polygonal section
         // understates the axial stretch by several percent.
-        let verify = SimulateOptions {
-            mesh: request.verify_mesh,
-            rings: request.rings,
-            ..SimulateOptions::default()
-        };
         let sim = simulate(&trial, &verify).map_err(DesignRunError::Seed)?;
         let ratio = target_length / sim.inflated_length_mm;
         length *= ratio;
@@ -292,14 +295,10 @@ pub fn design(
     }
 
     report(Stage::Verify, 0, evaluations, best.0, 0.0, observer);
-    let verify = SimulateOptions {
-        mesh: request.verify_mesh,
-        rings: request.rings,
-        ..SimulateOptions::default()
-    };
     let simulation = simulate(&best.1, &verify).map_err(DesignRunError::Verify)?;
-    let metrics = metrics(&profiles, &simulation, &request.objective);
+    let (metrics, profiles) = verified(&profiles, &simulation, &request.objective);
     Ok(DesignOutcome {
+        profiles,
         inflated_length_mm: simulation.inflated_length_mm,
         uninflated_length_to_cut_mm: best.1.balloon.length_mm,
         design: best.1,
@@ -334,16 +333,28 @@ fn seed(
     Ok(ksa(target, &params).map_err(DesignRunError::Ksa)?.patches)
 }
 
-fn metrics(profiles: &TargetProfiles, sim: &Simulation, options: &ObjectiveOptions) -> Metrics {
-    let shape = shape_error(&sim.centreline, &profiles.curve, 200).ok();
-    let (curvature, torsion) = profiles.profiles_of(&sim.centreline, options);
-    Metrics {
-        objective: profiles.mismatch(&sim.centreline, &curvature, &torsion, options),
-        dtw_curvature: dtw(&curvature, &profiles.curvature, None).unwrap_or(f64::INFINITY),
-        dtw_torsion: dtw(&torsion, &profiles.torsion, None).unwrap_or(f64::INFINITY),
+/// Metrics and profiles of the verified simulation, each computed once.
+fn verified(
+    target: &TargetProfiles,
+    sim: &Simulation,
+    options: &ObjectiveOptions,
+) -> (Metrics, Profiles) {
+    let shape = shape_error(&sim.centreline, &target.curve, 200).ok();
+    let (curvature, torsion) = target.profiles_of(&sim.centreline, options);
+    let metrics = Metrics {
+        objective: target.mismatch(&sim.centreline, &curvature, &torsion, options),
+        dtw_curvature: dtw(&curvature, &target.curvature, None).unwrap_or(f64::INFINITY),
+        dtw_torsion: dtw(&torsion, &target.torsion, None).unwrap_or(f64::INFINITY),
         shape_error_mm: shape.as_ref().map_or(f64::INFINITY, |e| e.rms_mm),
         shape_error_percent: shape
             .as_ref()
             .map_or(f64::INFINITY, |e| e.percent_of_length),
-    }
+    };
+    let profiles = Profiles {
+        target_curvature_per_mm: target.curvature.clone(),
+        target_torsion_per_mm: target.torsion.clone(),
+        curvature_per_mm: curvature,
+        torsion_per_mm: torsion,
+    };
+    (metrics, profiles)
 }

@@ -3,7 +3,6 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::objective::{ObjectiveOptions, TargetProfiles};
 use super::pipeline::{DesignOutcome, Metrics};
 use crate::cmaes::Termination;
 use crate::design::Design;
@@ -40,13 +39,7 @@ pub struct DesignReport {
 }
 
 impl DesignReport {
-    pub fn new(
-        outcome: &DesignOutcome,
-        target: &TargetProfiles,
-        objective: &ObjectiveOptions,
-        seed: u64,
-    ) -> DesignReport {
-        let (curvature, torsion) = target.profiles_of(&outcome.simulation.centreline, objective);
+    pub fn new(outcome: &DesignOutcome, seed: u64) -> DesignReport {
         DesignReport {
             design: outcome.design.clone(),
             centreline_mm: outcome
@@ -67,12 +60,7 @@ impl DesignReport {
             elapsed_s: outcome.elapsed.as_secs_f64(),
             termination: outcome.termination,
             seed,
-            profiles: Profiles {
-                target_curvature_per_mm: target.curvature.clone(),
-                target_torsion_per_mm: target.torsion.clone(),
-                curvature_per_mm: curvature,
-                torsion_per_mm: torsion,
-            },
+            profiles: outcome.profiles.clone(),
         }
     }
 }

@@ -234,7 +234,7 @@ fn find_runs(analysis: &Analysis, kappa_tol: f64, merge_mm: f64) -> Vec<Run> {
 /// Unwrapped angle ψ(s) of the Frenet normal in the Bishop frame (rad).
 fn normal_angle_in_bishop_frame(analysis: &Analysis) -> Vec<f64> {
     let bishop = bishop_frames(analysis);
-    let (frenet, _) = frenet_frames(analysis);
+    let frenet = frenet_frames(analysis);
     let mut angles = Vec::with_capacity(analysis.len());
     let mut previous: Option<f64> = None;
     for (b, f) in bishop.iter().zip(&frenet) {
