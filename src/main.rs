@@ -1,7 +1,9 @@
-//! `patchwork`: the command-line interface (and, later, the HTTP service).
+//! `patchwork`: the command-line interface and the HTTP service (`patchwork serve`).
 //! Thin by design: parse arguments, call the core, print.
 
 mod cli;
+mod reports;
+mod service;
 
 use std::process::ExitCode;
 

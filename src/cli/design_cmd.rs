@@ -7,9 +7,7 @@ use std::sync::atomic::AtomicBool;
 use anyhow::{Context, Result};
 use clap::Args;
 use patchwork_core::design::Design;
-use patchwork_core::fabrication::{
-    cut_file_dxf, patch_table_csv, profiles_svg, template_dxf, template_svg,
-};
+use patchwork_core::fabrication::design_files;
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::inverse::{DesignReport, DesignRequest, Stage, design};
 
@@ -110,29 +108,12 @@ pub fn run(args: DesignArgs) -> Result<()> {
 }
 
 fn write_files(dir: &std::path::Path, report: &DesignReport) -> Result<()> {
-    let write = |name: &str, bytes: &[u8]| {
-        let path = dir.join(name);
-        std::fs::write(&path, bytes).with_context(|| format!("cannot write {}", path.display()))
-    };
-    let mut json = serde_json::to_string_pretty(report)?;
-    json.push('\n');
-    write("design.json", json.as_bytes())?;
-    write("design.csv", patch_table_csv(&report.design).as_bytes())?;
-    write(
-        "patches.dxf",
-        &cut_file_dxf(&report.design).map_err(anyhow::Error::msg)?,
-    )?;
-    write(
-        "template.dxf",
-        &template_dxf(&report.design).map_err(anyhow::Error::msg)?,
-    )?;
-    write("template.svg", template_svg(&report.design).as_bytes())?;
-    let p = &report.profiles;
-    let svg = profiles_svg(
-        (&p.target_curvature_per_mm, &p.target_torsion_per_mm),
-        (&p.curvature_per_mm, &p.torsion_per_mm),
-    );
-    write("profiles.svg", svg.as_bytes())
+    for file in design_files(report).map_err(anyhow::Error::msg)? {
+        let path = dir.join(file.name);
+        std::fs::write(&path, &file.body)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(())
 }
 
 fn summary(r: &DesignReport, dir: &std::path::Path) -> String {

@@ -2,12 +2,11 @@
 
 use anyhow::{Result, bail};
 use clap::Args;
-use patchwork_core::design::Patch;
 use patchwork_core::ksa::{KsaParams, Stretch, ksa};
-use serde::Serialize;
 
 use super::input::CurveInput;
 use super::output::{emit, emit_json, patch_table};
+use crate::reports::KsaReport;
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
@@ -38,19 +37,6 @@ pub struct KsaArgs {
     stretch: String,
 }
 
-#[derive(Serialize)]
-struct KsaReport {
-    stretch: f64,
-    curve_length_mm: f64,
-    /// Uninflated length whose inflated length equals the curve's at `stretch`.
-    uninflated_length_to_cut_mm: f64,
-    patches: Vec<Patch>,
-    /// Indices of patches clipped to stay on the balloon.
-    clipped: Vec<usize>,
-    /// Number of curved stretches beyond the balloon's end (no patch placed).
-    runs_off_balloon: usize,
-}
-
 pub fn run(args: KsaArgs) -> Result<()> {
     let curve = args.input.load()?;
     let stretch = match args.stretch.as_str() {
@@ -70,14 +56,7 @@ pub fn run(args: KsaArgs) -> Result<()> {
         ..KsaParams::default()
     };
     let result = ksa(&curve, &params)?;
-    let report = KsaReport {
-        stretch: result.stretch,
-        curve_length_mm: curve.length(),
-        uninflated_length_to_cut_mm: curve.length() / result.stretch,
-        patches: result.patches,
-        clipped: result.clipped,
-        runs_off_balloon: result.off_balloon.len(),
-    };
+    let report = KsaReport::new(&curve, result);
     if args.json {
         return emit_json(&report);
     }

@@ -37,6 +37,8 @@ enum Command {
     /// Inverse design: patches for a target curve, with cut files (work in
     /// progress: slow on long multi-patch curves).
     Design(design_cmd::DesignArgs),
+    /// HTTP design service: REST API, SQLite job store, worker pool.
+    Serve(crate::service::ServeArgs),
 }
 
 pub fn run() -> Result<()> {
@@ -50,6 +52,7 @@ pub fn run() -> Result<()> {
         Command::Preset(args) => preset_cmd::run(args),
         Command::Simulate(args) => simulate_cmd::run(args),
         Command::Design(args) => design_cmd::run(args),
+        Command::Serve(args) => crate::service::run(args),
     }
 }
 

@@ -8,9 +8,9 @@ use patchwork_core::design::Design;
 use patchwork_core::fe::export::{to_ply, to_vtk};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
-use serde::Serialize;
 
 use super::output::{emit, emit_json};
+use crate::reports::SimulateReport;
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
@@ -33,22 +33,6 @@ pub struct SimulateArgs {
     out: Option<PathBuf>,
 }
 
-#[derive(Serialize)]
-struct SimulateReport {
-    converged: bool,
-    centreline_mm: Vec<[f64; 3]>,
-    inflated_length_mm: f64,
-    hoop_stretch_mid: f64,
-    axial_stretch_mid: f64,
-    curvature_per_mm: Vec<f64>,
-    torsion_per_mm: Vec<f64>,
-    newton_iterations: usize,
-    elapsed_ms: f64,
-    stable: bool,
-    relative_residual: f64,
-    volume_mm3: f64,
-}
-
 pub fn run(args: SimulateArgs) -> Result<()> {
     let text = super::input::read_text_argument(&args.design)?;
     let design: Design = serde_json::from_str(&text)
@@ -62,25 +46,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     if let Some(dir) = &args.out {
         write_files(dir, &sim)?;
     }
-    let report = SimulateReport {
-        converged: true,
-        centreline_mm: sim
-            .centreline
-            .points()
-            .iter()
-            .map(|p| [p.x, p.y, p.z])
-            .collect(),
-        inflated_length_mm: sim.inflated_length_mm,
-        hoop_stretch_mid: sim.hoop_stretch_mid,
-        axial_stretch_mid: sim.axial_stretch_mid,
-        curvature_per_mm: sim.curvature.clone(),
-        torsion_per_mm: sim.torsion.clone(),
-        newton_iterations: sim.stats.iterations,
-        elapsed_ms: sim.elapsed.as_secs_f64() * 1e3,
-        stable: sim.stats.stable,
-        relative_residual: sim.stats.residual,
-        volume_mm3: sim.volume_mm3,
-    };
+    let report = SimulateReport::new(&sim);
     if args.json {
         return emit_json(&report);
     }

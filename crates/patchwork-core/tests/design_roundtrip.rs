@@ -125,3 +125,84 @@ fn cancellation_stops_the_run() {
         Err(patchwork_core::inverse::DesignRunError::Cancelled)
     ));
 }
+
+#[test]
+fn a_run_resumes_from_a_serialised_checkpoint() {
+    use patchwork_core::inverse::{DesignCheckpoint, DesignHooks, design_resumable};
+    let base = Design {
+        balloon: Balloon {
+            length_mm: 80.0,
+            ..Balloon::default()
+        },
+        ..Design::reference(vec![])
+    };
+    let target = simulate(
+        &Design {
+            patches: vec![Patch {
+                x_mm: 0.0,
+                y_mm: 40.0,
+                h_mm: 15.0,
+                w_mm: 2.5,
+                theta_deg: 10.0,
+            }],
+            ..base.clone()
+        },
+        &SimulateOptions::default(),
+    )
+    .unwrap()
+    .centreline;
+    let request = DesignRequest {
+        base,
+        fix_length: true,
+        budget: 50,
+        threads: 1,
+        verify_mesh: MeshSpec::uniform(2.0),
+        ..DesignRequest::default()
+    };
+    let cancel = AtomicBool::new(false);
+    let mut saved: Vec<String> = Vec::new();
+    let whole = design_resumable(
+        &target,
+        &request,
+        None,
+        DesignHooks {
+            cancel: &cancel,
+            observer: &mut |_| {},
+            checkpoint: &mut |c| saved.push(serde_json::to_string(c).unwrap()),
+        },
+    )
+    .unwrap();
+    // The seed and one checkpoint per generation (population 8 for 5 variables).
+    assert!(saved.len() >= 5, "{} checkpoints", saved.len());
+    let checkpoint: DesignCheckpoint = serde_json::from_str(&saved[3]).unwrap();
+    let mut first_search = None;
+    let resumed = design_resumable(
+        &target,
+        &request,
+        Some(checkpoint.clone()),
+        DesignHooks {
+            cancel: &cancel,
+            observer: &mut |p| {
+                if p.stage == Stage::Search && first_search.is_none() {
+                    first_search = Some(p.evaluations);
+                }
+            },
+            checkpoint: &mut |_| {},
+        },
+    )
+    .unwrap();
+    println!(
+        "checkpoint at {} evaluations; resumed search first reports {first_search:?}; \
+         whole run {:.5} / resumed {:.5} in {} / {} evaluations",
+        checkpoint.evaluations,
+        whole.search_objective,
+        resumed.search_objective,
+        whole.evaluations,
+        resumed.evaluations
+    );
+    // Resumed, not restarted: the next generation follows the checkpoint's.
+    assert!(first_search.unwrap() > checkpoint.evaluations);
+    assert_eq!(resumed.evaluations, whole.evaluations);
+    assert!(resumed.search_objective <= checkpoint.best_objective);
+    assert_eq!(resumed.design.balloon, whole.design.balloon);
+}

@@ -29,3 +29,53 @@ pub fn patch_table_csv(design: &Design) -> String {
     }
     out
 }
+
+/// One output file of a design run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputFile {
+    pub name: &'static str,
+    pub content_type: &'static str,
+    pub body: Vec<u8>,
+}
+
+/// Every file of a design run, as the CLI writes them to `--out` and the API
+/// serves them: design.json, design.csv, patches.dxf, template.dxf,
+/// template.svg, profiles.svg.
+pub fn design_files(report: &crate::inverse::DesignReport) -> Result<Vec<OutputFile>, String> {
+    let file = |name, content_type, body| OutputFile {
+        name,
+        content_type,
+        body,
+    };
+    let mut json = serde_json::to_string_pretty(report).map_err(|e| e.to_string())?;
+    json.push('\n');
+    let p = &report.profiles;
+    let profiles = profiles_svg(
+        (&p.target_curvature_per_mm, &p.target_torsion_per_mm),
+        (&p.curvature_per_mm, &p.torsion_per_mm),
+    );
+    Ok(vec![
+        file("design.json", "application/json", json.into_bytes()),
+        file(
+            "design.csv",
+            "text/csv; charset=utf-8",
+            patch_table_csv(&report.design).into_bytes(),
+        ),
+        file(
+            "patches.dxf",
+            "application/dxf",
+            cut_file_dxf(&report.design)?,
+        ),
+        file(
+            "template.dxf",
+            "application/dxf",
+            template_dxf(&report.design)?,
+        ),
+        file(
+            "template.svg",
+            "image/svg+xml",
+            template_svg(&report.design).into_bytes(),
+        ),
+        file("profiles.svg", "image/svg+xml", profiles.into_bytes()),
+    ])
+}

@@ -2,14 +2,17 @@
 //! variables and their bounds, the objective, and the KSA → CMA-ES → verify
 //! pipeline.
 
+pub mod fidelity;
 pub mod objective;
 pub mod pipeline;
 pub mod report;
 pub mod variables;
 
+pub use fidelity::Fidelity;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use pipeline::{
-    DesignOutcome, DesignProgress, DesignRequest, DesignRunError, Metrics, Stage, design,
+    DesignCheckpoint, DesignHooks, DesignOutcome, DesignProgress, DesignRequest, DesignRunError,
+    Metrics, Stage, design, design_resumable,
 };
 pub use report::DesignReport;
 pub use variables::{DesignSpace, Freedom, VariableBounds};

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::objective::{ObjectiveOptions, TargetProfiles};
 use super::report::Profiles;
 use super::variables::{DesignSpace, Freedom, VariableBounds, VariableError};
-use crate::cmaes::{Bounds, Optimizer, Progress, RunOptions, Termination};
+use crate::cmaes::{Bounds, Optimizer, RunOptions, Termination};
 use crate::curve::{Curve, dtw, shape_error};
 use crate::design::{Design, DesignError, Patch};
 use crate::fe::mesh::MeshSpec;
@@ -139,27 +139,69 @@ pub struct DesignOutcome {
     pub elapsed: Duration,
 }
 
-/// Runs the pipeline. `cancel` is polled before every evaluation and between
-/// generations; `observer` hears every stage and generation.
+/// The state of a design run once its seed is known, and again after every
+/// search generation: enough to resume the run where it stopped (a service
+/// killed mid-run resumes from its last checkpoint, not from scratch).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DesignCheckpoint {
+    /// Balloon, materials and pressure, with the balloon length chosen.
+    pub base: Design,
+    /// KSA seed on that balloon.
+    pub seed_patches: Vec<Patch>,
+    pub seed_objective: f64,
+    /// The search's state; `None` before its first generation.
+    pub optimizer: Option<Optimizer>,
+    /// Best design so far on the search model.
+    pub best_objective: f64,
+    pub best_patches: Vec<Patch>,
+    /// Forward evaluations spent, the seed's included.
+    pub evaluations: usize,
+    /// Wall time spent on the run so far, over every process that ran it.
+    pub elapsed_s: f64,
+}
+
+/// How a caller watches and steers a run.
+pub struct DesignHooks<'a> {
+    /// Polled before every evaluation and between generations.
+    pub cancel: &'a AtomicBool,
+    /// Hears every stage and generation.
+    pub observer: &'a mut dyn FnMut(&DesignProgress),
+    /// Receives a checkpoint after the seed and after every generation.
+    pub checkpoint: &'a mut dyn FnMut(&DesignCheckpoint),
+}
+
+/// Runs the pipeline from the start, without checkpoints.
 pub fn design(
     target: &Curve,
     request: &DesignRequest,
     cancel: &AtomicBool,
     observer: &mut dyn FnMut(&DesignProgress),
 ) -> Result<DesignOutcome, DesignRunError> {
-    let started = Instant::now();
-    let mut base = Design {
-        patches: vec![],
-        ..request.base.clone()
+    let hooks = DesignHooks {
+        cancel,
+        observer,
+        checkpoint: &mut |_| {},
     };
-    base.validate().map_err(DesignRunError::Design)?;
-    let b = &base.balloon;
-    let state = inflate_tube(&b.material, base.pressure_mpa(), b.radius_mm, b.wall_mm).ok_or(
-        DesignRunError::NoTubeState {
-            pressure_kpa: base.pressure_kpa,
-        },
-    )?;
-    let target_length = target.length();
+    design_resumable(target, request, None, hooks)
+}
+
+/// Runs the pipeline, from `resume` when given (a checkpoint of a run of the
+/// same target and request), reporting checkpoints as it goes. A cancelled
+/// run's last checkpoint is the generation before the cancellation.
+pub fn design_resumable(
+    target: &Curve,
+    request: &DesignRequest,
+    resume: Option<DesignCheckpoint>,
+    hooks: DesignHooks<'_>,
+) -> Result<DesignOutcome, DesignRunError> {
+    let DesignHooks {
+        cancel,
+        observer,
+        checkpoint,
+    } = hooks;
+    let started = Instant::now();
+    let earlier = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
+    let elapsed = || earlier + started.elapsed().as_secs_f64();
     let report =
         |stage, generation, evaluations, best, sigma, observer: &mut dyn FnMut(&DesignProgress)| {
             observer(&DesignProgress {
@@ -168,17 +210,14 @@ pub fn design(
                 evaluations,
                 best_objective: best,
                 sigma,
-                elapsed_s: started.elapsed().as_secs_f64(),
+                elapsed_s: elapsed(),
             })
         };
-    report(Stage::Seed, 0, 0, f64::NAN, 0.0, observer);
-
-    // Balloon length from mechanics: the bare tube stretches by λ₂ axially.
-    let mut length = if request.fix_length {
-        b.length_mm
-    } else {
-        target_length / state.axial
+    let mut base = Design {
+        patches: vec![],
+        ..request.base.clone()
     };
+    base.validate().map_err(DesignRunError::Design)?;
     let search = SimulateOptions {
         mesh: request.search_mesh,
         rings: request.rings,
@@ -188,34 +227,6 @@ pub fn design(
         mesh: request.verify_mesh,
         rings: request.rings,
         ..SimulateOptions::default()
-    };
-    let mut seed_patches = seed(target, &base, length, request)?;
-    if !request.fix_length && !seed_patches.is_empty() {
-        // Patches stretch less than bare wall: correct the length once from a
-        // simulation of the seed, scaling patch positions and lengths with it.
-        let trial = Design {
-            balloon: crate::design::Balloon {
-                length_mm: length,
-                ..base.balloon.clone()
-            },
-            patches: seed_patches.clone(),
-            ..base.clone()
-        };
-        // The length to cut comes from the most accurate model of the run (the
-        // verification mesh): the coarse search mesh's polygonal section
-        // understates the axial stretch by several percent.
-        let sim = simulate(&trial, &verify).map_err(DesignRunError::Seed)?;
-        let ratio = target_length / sim.inflated_length_mm;
-        length *= ratio;
-        for p in &mut seed_patches {
-            p.y_mm *= ratio;
-            p.h_mm *= ratio;
-        }
-    }
-    base.balloon.length_mm = length;
-    let seed_design = Design {
-        patches: seed_patches.clone(),
-        ..base.clone()
     };
     let profiles = TargetProfiles::new(target, request.rings, &request.objective);
     let evaluate = |design: &Design, warm: Option<&Simulation>| -> (f64, Option<Simulation>) {
@@ -227,16 +238,55 @@ pub fn design(
             Err(_) => (FAILED_SOLVE_PENALTY, None),
         }
     };
-    let (seed_objective, seed_sim) = evaluate(&seed_design, None);
-    let mut evaluations = 1;
-    let mut best = (seed_objective, seed_design.clone());
-    let mut termination = Termination::MaxEvaluations;
 
-    let space = DesignSpace::new(seed_patches, request.freedom, &request.bounds, length)
-        .map_err(DesignRunError::Variables)?;
+    let (mut state, warm_start) = match resume {
+        Some(state) => {
+            // The incumbent's state warms the next solves, as it did before.
+            let incumbent = Design {
+                patches: state.best_patches.clone(),
+                ..state.base.clone()
+            };
+            let warm = evaluate(&incumbent, None).1;
+            (state, warm)
+        }
+        None => {
+            report(Stage::Seed, 0, 0, f64::NAN, 0.0, observer);
+            base = seeded_balloon(target, base, request, &verify)?;
+            let seed_patches = base.patches.clone();
+            base.patches.clear();
+            let seed_design = Design {
+                patches: seed_patches.clone(),
+                ..base.clone()
+            };
+            let (seed_objective, seed_sim) = evaluate(&seed_design, None);
+            let state = DesignCheckpoint {
+                base,
+                best_patches: seed_patches.clone(),
+                seed_patches,
+                seed_objective,
+                optimizer: None,
+                best_objective: seed_objective,
+                evaluations: 1,
+                elapsed_s: elapsed(),
+            };
+            checkpoint(&state);
+            (state, seed_sim)
+        }
+    };
+    let base = state.base.clone();
+    let length = base.balloon.length_mm;
+    let space = DesignSpace::new(
+        state.seed_patches.clone(),
+        request.freedom,
+        &request.bounds,
+        length,
+    )
+    .map_err(DesignRunError::Variables)?;
+    let mut termination = Termination::MaxEvaluations;
     if space.dimension() > 0 && request.budget > 1 {
-        let warm: Mutex<Option<Arc<Simulation>>> = Mutex::new(seed_sim.map(Arc::new));
-        let incumbent: Mutex<(f64, Vec<Patch>)> = Mutex::new((seed_objective, space.seed.clone()));
+        let warm: Mutex<Option<Arc<Simulation>>> = Mutex::new(warm_start.map(Arc::new));
+        let incumbent: Mutex<(f64, Vec<Patch>)> =
+            Mutex::new((state.best_objective, state.best_patches.clone()));
         let objective = |u: &[f64]| -> f64 {
             if cancel.load(Ordering::Relaxed) {
                 return f64::INFINITY;
@@ -257,61 +307,135 @@ pub fn design(
             }
             f
         };
-        let n = space.dimension();
-        let mut options = RunOptions::new(space.seed_point(), 0.2, request.seed);
-        options.bounds = Bounds::new(vec![0.0; n], vec![1.0; n]).ok();
-        options.max_evaluations = request.budget - 1;
-        options.threads = request.threads.max(1);
-        options.tol_fun = 1e-7;
-        options.tol_x = 1e-6;
-        let mut optimizer = Optimizer::new(options);
-        let result = optimizer.run(&objective, &mut |p: &Progress| {
+        let mut optimizer = match state.optimizer.take() {
+            Some(optimizer) => optimizer,
+            None => Optimizer::new(search_options(&space, request)),
+        };
+        let ended = loop {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(DesignRunError::Cancelled);
+            }
+            let ended = optimizer.step(&objective);
+            // A generation evaluated while cancelling saw infinities: drop it.
+            if cancel.load(Ordering::Relaxed) {
+                return Err(DesignRunError::Cancelled);
+            }
+            if let Ok(found) = incumbent.lock() {
+                state.best_objective = found.0;
+                state.best_patches = found.1.clone();
+            }
+            state.evaluations = 1 + optimizer.evaluations();
             report(
                 Stage::Search,
-                p.generation,
-                p.evaluations + 1,
-                p.best_fitness.min(seed_objective),
-                p.sigma,
+                optimizer.strategy.generation,
+                state.evaluations,
+                state.best_objective,
+                optimizer.strategy.sigma,
                 observer,
             );
-            !cancel.load(Ordering::Relaxed)
-        });
-        if result.termination == Termination::Cancelled {
-            return Err(DesignRunError::Cancelled);
-        }
-        termination = result.termination;
-        evaluations += result.evaluations;
-        if let Ok(found) = incumbent.lock()
-            && found.0 < best.0
-        {
-            best = (
-                found.0,
-                Design {
-                    patches: found.1.clone(),
-                    ..base.clone()
-                },
-            );
-        }
+            state.elapsed_s = elapsed();
+            state.optimizer = Some(optimizer);
+            checkpoint(&state);
+            optimizer = state.optimizer.take().expect("just stored");
+            if let Some(ended) = ended {
+                break ended;
+            }
+        };
+        termination = ended;
     }
 
-    report(Stage::Verify, 0, evaluations, best.0, 0.0, observer);
-    let simulation = simulate(&best.1, &verify).map_err(DesignRunError::Verify)?;
+    let best = Design {
+        patches: state.best_patches.clone(),
+        ..base.clone()
+    };
+    report(
+        Stage::Verify,
+        0,
+        state.evaluations,
+        state.best_objective,
+        0.0,
+        observer,
+    );
+    let simulation = simulate(&best, &verify).map_err(DesignRunError::Verify)?;
     let (metrics, profiles) = verified(&profiles, &simulation, &request.objective);
     Ok(DesignOutcome {
         profiles,
         inflated_length_mm: simulation.inflated_length_mm,
-        uninflated_length_to_cut_mm: best.1.balloon.length_mm,
-        design: best.1,
-        seed_design,
+        uninflated_length_to_cut_mm: best.balloon.length_mm,
+        seed_design: Design {
+            patches: state.seed_patches.clone(),
+            ..base.clone()
+        },
+        design: best,
         simulation,
         metrics,
-        seed_objective,
-        search_objective: best.0,
-        target_length_mm: target_length,
-        evaluations,
+        seed_objective: state.seed_objective,
+        search_objective: state.best_objective,
+        target_length_mm: target.length(),
+        evaluations: state.evaluations,
         termination,
-        elapsed: started.elapsed(),
+        elapsed: Duration::from_secs_f64(elapsed()),
     })
+}
+
+/// CMA-ES settings of the search: the unit cube around the seed.
+fn search_options(space: &DesignSpace, request: &DesignRequest) -> RunOptions {
+    let n = space.dimension();
+    let mut options = RunOptions::new(space.seed_point(), 0.2, request.seed);
+    options.bounds = Bounds::new(vec![0.0; n], vec![1.0; n]).ok();
+    options.max_evaluations = request.budget - 1;
+    options.threads = request.threads.max(1);
+    options.tol_fun = 1e-7;
+    options.tol_x = 1e-6;
+    options
+}
+
+/// The balloon with its length chosen and the KSA seed as its patches.
+fn seeded_balloon(
+    target: &Curve,
+    base: Design,
+    request: &DesignRequest,
+    verify: &SimulateOptions,
+) -> Result<Design, DesignRunError> {
+    let b = &base.balloon;
+    let state = inflate_tube(&b.material, base.pressure_mpa(), b.radius_mm, b.wall_mm).ok_or(
+        DesignRunError::NoTubeState {
+            pressure_kpa: base.pressure_kpa,
+        },
+    )?;
+    let target_length = target.length();
+    // Balloon length from mechanics: the bare tube stretches by λ₂ axially.
+    let mut length = if request.fix_length {
+        b.length_mm
+    } else {
+        target_length / state.axial
+    };
+    let mut seed_patches = seed(target, &base, length, request)?;
+    if !request.fix_length && !seed_patches.is_empty() {
+        // Patches stretch less than bare wall: correct the length once from a
+        // simulation of the seed, scaling patch positions and lengths with it.
+        // The length to cut comes from the most accurate model of the run (the
+        // verification mesh): the coarse search mesh's polygonal section
+        // understates the axial stretch by several percent.
+        let mut trial = Design {
+            patches: seed_patches.clone(),
+            ..base.clone()
+        };
+        trial.balloon.length_mm = length;
+        let sim = simulate(&trial, verify).map_err(DesignRunError::Seed)?;
+        let ratio = target_length / sim.inflated_length_mm;
+        length *= ratio;
+        for p in &mut seed_patches {
+            p.y_mm *= ratio;
+            p.h_mm *= ratio;
+        }
+    }
+    let mut seeded = Design {
+        patches: seed_patches,
+        ..base
+    };
+    seeded.balloon.length_mm = length;
+    Ok(seeded)
 }
 
 /// KSA patches for a balloon of `length`, mapping the whole target onto it.

@@ -65,30 +65,10 @@ impl Default for VariableBounds {
     }
 }
 
-/// An impossible bound, naming the field.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("bounds.{field}: {reason}")]
-pub struct VariableError {
-    pub field: &'static str,
-    pub reason: String,
-}
-
-/// The mapping between the unit cube of free variables and a list of patches.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct DesignSpace {
-    pub seed: Vec<Patch>,
-    /// (patch, parameter index 0..5, lower, upper) for each free variable.
-    pub free: Vec<(usize, usize, f64, f64)>,
-}
-
-impl DesignSpace {
-    pub fn new(
-        seed: Vec<Patch>,
-        freedom: Freedom,
-        bounds: &VariableBounds,
-        balloon_length: f64,
-    ) -> Result<DesignSpace, VariableError> {
-        let b = bounds;
+impl VariableBounds {
+    /// Checks that every bound is finite and the ranges are non-empty.
+    pub fn validate(&self) -> Result<(), VariableError> {
+        let b = self;
         let check = |field, ok: bool, reason: &str| {
             if ok {
                 Ok(())
@@ -130,7 +110,35 @@ impl DesignSpace {
             "theta_limit_deg",
             b.theta_limit_deg.is_finite() && b.theta_limit_deg > 0.0 && b.theta_limit_deg <= 90.0,
             "must be in (0, 90]",
-        )?;
+        )
+    }
+}
+
+/// An impossible bound, naming the field.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("bounds.{field}: {reason}")]
+pub struct VariableError {
+    pub field: &'static str,
+    pub reason: String,
+}
+
+/// The mapping between the unit cube of free variables and a list of patches.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DesignSpace {
+    pub seed: Vec<Patch>,
+    /// (patch, parameter index 0..5, lower, upper) for each free variable.
+    pub free: Vec<(usize, usize, f64, f64)>,
+}
+
+impl DesignSpace {
+    pub fn new(
+        seed: Vec<Patch>,
+        freedom: Freedom,
+        bounds: &VariableBounds,
+        balloon_length: f64,
+    ) -> Result<DesignSpace, VariableError> {
+        bounds.validate()?;
+        let b = bounds;
         let mut free = Vec::new();
         for (i, p) in seed.iter().enumerate() {
             let ranges = [

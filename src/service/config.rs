@@ -1,0 +1,118 @@
+//! `patchwork serve` settings: command-line flags, an optional TOML config
+//! file, and `PATCHWORK_API_KEYS` from the environment.
+
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use serde::Deserialize;
+use sha2::{Digest, Sha256};
+
+#[derive(Args, Debug)]
+pub struct ServeArgs {
+    /// Address to listen on (port 0 picks a free port; the chosen address is
+    /// printed on the first line of stdout).
+    #[arg(long, default_value = "127.0.0.1:8080")]
+    pub addr: SocketAddr,
+    /// SQLite database file (created and migrated if missing).
+    #[arg(long, default_value = "./patchwork.db")]
+    pub db: PathBuf,
+    /// Design jobs computed at once (default: one per core).
+    #[arg(long)]
+    pub workers: Option<usize>,
+    /// TOML file with `api_keys`, `cors_origins`, `queue_capacity`,
+    /// `job_time_limit_s`, `simulate_time_limit_s`, `body_limit_bytes`.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Queued jobs accepted before POST /v1/jobs answers 503.
+    #[arg(long)]
+    pub queue_capacity: Option<usize>,
+    /// Wall-time limit of one design job (seconds).
+    #[arg(long)]
+    pub job_time_limit_s: Option<u64>,
+}
+
+/// The config file's contents; every field optional.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ConfigFile {
+    api_keys: Option<Vec<String>>,
+    cors_origins: Option<Vec<String>>,
+    workers: Option<usize>,
+    queue_capacity: Option<usize>,
+    job_time_limit_s: Option<u64>,
+    simulate_time_limit_s: Option<u64>,
+    body_limit_bytes: Option<usize>,
+}
+
+/// Resolved settings.
+#[derive(Debug, Clone)]
+pub struct Config {
+    pub addr: SocketAddr,
+    pub db: PathBuf,
+    pub workers: usize,
+    /// Owners (key digests) allowed; empty = no authentication.
+    pub owners: Vec<String>,
+    pub cors_origins: Vec<String>,
+    pub queue_capacity: usize,
+    pub job_time_limit: Duration,
+    pub simulate_time_limit: Duration,
+    pub body_limit_bytes: usize,
+}
+
+impl Config {
+    pub fn resolve(args: &ServeArgs) -> Result<Config> {
+        let file = match &args.config {
+            Some(path) => {
+                let text = std::fs::read_to_string(path)
+                    .with_context(|| format!("cannot read {}", path.display()))?;
+                toml::from_str::<ConfigFile>(&text)
+                    .with_context(|| format!("{}: invalid config", path.display()))?
+            }
+            None => ConfigFile::default(),
+        };
+        // The environment wins over the file for keys.
+        let keys: Vec<String> = match std::env::var("PATCHWORK_API_KEYS") {
+            Ok(list) if !list.trim().is_empty() => list
+                .split(',')
+                .map(|k| k.trim().to_string())
+                .filter(|k| !k.is_empty())
+                .collect(),
+            _ => file.api_keys.unwrap_or_default(),
+        };
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let workers = args.workers.or(file.workers).unwrap_or(cores);
+        anyhow::ensure!(workers >= 1, "--workers must be at least 1");
+        let queue_capacity = args.queue_capacity.or(file.queue_capacity).unwrap_or(64);
+        anyhow::ensure!(queue_capacity >= 1, "--queue-capacity must be at least 1");
+        Ok(Config {
+            addr: args.addr,
+            db: args.db.clone(),
+            workers,
+            owners: keys.iter().map(|k| owner_of(k)).collect(),
+            cors_origins: file.cors_origins.unwrap_or_default(),
+            queue_capacity,
+            job_time_limit: Duration::from_secs(
+                args.job_time_limit_s
+                    .or(file.job_time_limit_s)
+                    .unwrap_or(3600),
+            ),
+            simulate_time_limit: Duration::from_secs(file.simulate_time_limit_s.unwrap_or(20)),
+            body_limit_bytes: file.body_limit_bytes.unwrap_or(8 << 20),
+        })
+    }
+
+    pub fn auth_enabled(&self) -> bool {
+        !self.owners.is_empty()
+    }
+}
+
+/// A key's owner id: its SHA-256, hex (keys themselves are never stored).
+pub fn owner_of(key: &str) -> String {
+    Sha256::digest(key.as_bytes())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}

@@ -1,0 +1,351 @@
+//! `/v1/jobs`: submit, list, read, cancel and delete design jobs, and fetch
+//! their iterations, result and files.
+
+use axum::Extension;
+use axum::extract::{Path, Query, State};
+use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use serde::{Deserialize, Serialize};
+use serde_json::{Value, json};
+
+use super::auth::Owner;
+use super::problem::{ApiJson, Problem};
+use super::request::JobRequest;
+use super::state::{AppState, StopReason};
+use super::store::{JobRow, TERMINAL};
+
+/// The files of a finished job.
+pub const FILES: [&str; 6] = [
+    "patches.dxf",
+    "template.dxf",
+    "template.svg",
+    "profiles.svg",
+    "design.json",
+    "design.csv",
+];
+
+/// The job resource.
+#[derive(Debug, Serialize)]
+pub struct JobView {
+    pub id: String,
+    pub status: String,
+    pub created_at: String,
+    pub updated_at: String,
+    pub progress: Value,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    pub links: Value,
+}
+
+impl JobView {
+    pub fn new(row: &JobRow) -> JobView {
+        let base = format!("/v1/jobs/{}", row.id);
+        let files: serde_json::Map<String, Value> = FILES
+            .iter()
+            .map(|name| (name.to_string(), json!(format!("{base}/files/{name}"))))
+            .collect();
+        JobView {
+            id: row.id.clone(),
+            status: row.status.clone(),
+            created_at: row.created_at.clone(),
+            updated_at: row.updated_at.clone(),
+            progress: row
+                .progress
+                .as_deref()
+                .and_then(|p| serde_json::from_str(p).ok())
+                .unwrap_or(Value::Null),
+            error: row.error.clone(),
+            links: json!({
+                "self": base,
+                "events": format!("{base}/events"),
+                "iterations": format!("{base}/iterations"),
+                "result": format!("{base}/result"),
+                "cancel": format!("{base}/cancel"),
+                "files": files,
+            }),
+        }
+    }
+}
+
+fn accepted(row: &JobRow) -> Response {
+    let location = format!("/v1/jobs/{}", row.id);
+    let mut response = (StatusCode::ACCEPTED, axum::Json(JobView::new(row))).into_response();
+    if let Ok(value) = HeaderValue::from_str(&location) {
+        response.headers_mut().insert(header::LOCATION, value);
+    }
+    response
+}
+
+pub async fn create(
+    State(state): State<AppState>,
+    Extension(owner): Extension<Owner>,
+    headers: HeaderMap,
+    ApiJson(request): ApiJson<JobRequest>,
+) -> Result<Response, Problem> {
+    if state
+        .shutting_down
+        .load(std::sync::atomic::Ordering::Relaxed)
+    {
+        let mut p = Problem::new(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "the server is shutting down",
+        );
+        p.retry_after_s = Some(5);
+        return Err(p);
+    }
+    let key = match headers.get("Idempotency-Key") {
+        Some(v) => Some(
+            v.to_str()
+                .ok()
+                .filter(|k| !k.is_empty() && k.len() <= 255)
+                .ok_or_else(|| {
+                    Problem::new(
+                        StatusCode::BAD_REQUEST,
+                        "must be 1–255 visible ASCII characters",
+                    )
+                    .field("Idempotency-Key")
+                })?
+                .to_string(),
+        ),
+        None => None,
+    };
+    request.prepare()?;
+    let stored = serde_json::to_string(&request).map_err(Problem::internal)?;
+    if let Some(key) = &key
+        && let Some(existing) = state
+            .store
+            .job_by_idempotency_key(owner.stored(), key)
+            .await?
+    {
+        return replay(&existing, &stored);
+    }
+    if state.store.queued_count().await? >= state.config.queue_capacity as i64 {
+        let mut p = Problem::new(
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!(
+                "the queue is full ({} jobs waiting)",
+                state.config.queue_capacity
+            ),
+        );
+        p.retry_after_s = Some(30);
+        return Err(p);
+    }
+    let id = uuid::Uuid::now_v7().to_string();
+    let row = match state
+        .store
+        .insert_job(&id, owner.stored(), &stored, key.as_deref())
+        .await?
+    {
+        Some(row) => row,
+        // A concurrent request with the same key won the race.
+        None => {
+            let existing = state
+                .store
+                .job_by_idempotency_key(owner.stored(), key.as_deref().unwrap_or_default())
+                .await?
+                .ok_or_else(|| Problem::internal("insert conflict without an existing job"))?;
+            return replay(&existing, &stored);
+        }
+    };
+    state
+        .emit(&row.id, "stage", &json!({"stage": "queued"}))
+        .await?;
+    tracing::info!(job = %row.id, "job queued");
+    state.wake.notify_one();
+    Ok(accepted(&row))
+}
+
+/// Same key, same body: the same job. Same key, another body: an error.
+fn replay(existing: &JobRow, stored: &str) -> Result<Response, Problem> {
+    if existing.request == stored {
+        Ok(accepted(existing))
+    } else {
+        Err(Problem::invalid(
+            "Idempotency-Key",
+            "this key was used for a different request",
+        ))
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ListQuery {
+    status: Option<String>,
+    limit: Option<i64>,
+    cursor: Option<String>,
+}
+
+pub async fn list(
+    State(state): State<AppState>,
+    Extension(owner): Extension<Owner>,
+    query: Result<Query<ListQuery>, axum::extract::rejection::QueryRejection>,
+) -> Result<Response, Problem> {
+    let Query(query) = query.map_err(|e| Problem::new(StatusCode::BAD_REQUEST, e.body_text()))?;
+    if let Some(status) = &query.status
+        && !["queued", "running"].contains(&status.as_str())
+        && !TERMINAL.contains(&status.as_str())
+    {
+        return Err(Problem::new(
+            StatusCode::BAD_REQUEST,
+            "status must be one of queued, running, succeeded, failed, cancelled",
+        )
+        .field("status"));
+    }
+    let limit = query.limit.unwrap_or(50);
+    if !(1..=500).contains(&limit) {
+        return Err(
+            Problem::new(StatusCode::BAD_REQUEST, "limit must be between 1 and 500").field("limit"),
+        );
+    }
+    let rows = state
+        .store
+        .list_jobs(
+            owner.filter(),
+            query.status.as_deref(),
+            query.cursor.as_deref(),
+            limit,
+        )
+        .await?;
+    let next = (rows.len() as i64 == limit)
+        .then(|| rows.last().map(|r| r.id.clone()))
+        .flatten();
+    let jobs: Vec<JobView> = rows.iter().map(JobView::new).collect();
+    Ok(axum::Json(json!({ "jobs": jobs, "next_cursor": next })).into_response())
+}
+
+/// The job if `owner` may see it; another owner's job is a 404.
+pub async fn owned(state: &AppState, owner: &Owner, id: &str) -> Result<JobRow, Problem> {
+    state
+        .store
+        .job(id, owner.filter())
+        .await?
+        .ok_or_else(|| Problem::not_found("no such job"))
+}
+
+pub async fn get(
+    State(state): State<AppState>,
+    Extension(owner): Extension<Owner>,
+    Path(id): Path<String>,
+) -> Result<Response, Problem> {
+    let row = owned(&state, &owner, &id).await?;
+    Ok(axum::Json(JobView::new(&row)).into_response())
+}
+
+pub async fn cancel(
+    State(state): State<AppState>,
+    Extension(owner): Extension<Owner>,
+    Path(id): Path<String>,
+) -> Result<Response, Problem> {
+    let row = owned(&state, &owner, &id).await?;
+    if row.status == "succeeded" || row.status == "failed" {
+        return Err(Problem::new(
+            StatusCode::CONFLICT,
+            format!("the job has already {}", row.status),
+        ));
+    }
+    if row.status != "cancelled" && state.store.set_status(&id, "cancelled", None).await? {
+        if let Some(control) = state.control(&id) {
+            control.stop(StopReason::Cancelled);
+        }
+        state
+            .emit(&id, "cancelled", &json!({"reason": "cancelled by request"}))
+            .await?;
+        tracing::info!(job = %id, "job cancelled");
+    }
+    let row = owned(&state, &owner, &id).await?;
+    Ok(axum::Json(JobView::new(&row)).into_response())
+}
+
+pub async fn delete(
+    State(state): State<AppState>,
+    Extension(owner): Extension<Owner>,
+    Path(id): Path<String>,
+) -> Result<Response, Problem> {
+    owned(&state, &owner, &id).await?;
+    if let Some(control) = state.control(&id) {
+        control.stop(StopReason::Cancelled);
+    }
+    state.store.delete(&id).await?;
+    tracing::info!(job = %id, "job deleted");
+    Ok(StatusCode::NO_CONTENT.into_response())
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IterationQuery {
+    /// Evaluations of the last iteration of the previous page.
+    after: Option<i64>,
+    limit: Option<i64>,
+}
+
+pub async fn iterations(
+    State(state): State<AppState>,
+    Extension(owner): Extension<Owner>,
+    Path(id): Path<String>,
+    query: Result<Query<IterationQuery>, axum::extract::rejection::QueryRejection>,
+) -> Result<Response, Problem> {
+    let Query(query) = query.map_err(|e| Problem::new(StatusCode::BAD_REQUEST, e.body_text()))?;
+    owned(&state, &owner, &id).await?;
+    let limit = query.limit.unwrap_or(100);
+    if !(1..=1000).contains(&limit) {
+        return Err(
+            Problem::new(StatusCode::BAD_REQUEST, "limit must be between 1 and 1000")
+                .field("limit"),
+        );
+    }
+    let rows = state
+        .store
+        .iterations(&id, query.after.unwrap_or(0), limit)
+        .await?;
+    let next = (rows.len() as i64 == limit)
+        .then(|| rows.last().map(|r| r.evaluations))
+        .flatten();
+    Ok(axum::Json(json!({ "iterations": rows, "next_after": next })).into_response())
+}
+
+fn not_ready(row: &JobRow) -> Problem {
+    Problem::new(
+        StatusCode::CONFLICT,
+        match row.status.as_str() {
+            "queued" | "running" => format!("the job is {}; its result is not ready", row.status),
+            other => format!("the job {other}; it has no result"),
+        },
+    )
+}
+
+pub async fn result(
+    State(state): State<AppState>,
+    Extension(owner): Extension<Owner>,
+    Path(id): Path<String>,
+) -> Result<Response, Problem> {
+    let row = owned(&state, &owner, &id).await?;
+    let Some(result) = state.store.result(&id).await? else {
+        return Err(not_ready(&row));
+    };
+    Ok(([(header::CONTENT_TYPE, "application/json")], result).into_response())
+}
+
+pub async fn file(
+    State(state): State<AppState>,
+    Extension(owner): Extension<Owner>,
+    Path((id, name)): Path<(String, String)>,
+) -> Result<Response, Problem> {
+    let row = owned(&state, &owner, &id).await?;
+    if !FILES.contains(&name.as_str()) {
+        return Err(Problem::not_found(
+            "no such file; the files are patches.dxf, template.dxf, template.svg, profiles.svg, design.json and design.csv",
+        ));
+    }
+    let Some((content_type, body)) = state.store.file(&id, &name).await? else {
+        return Err(not_ready(&row));
+    };
+    let disposition = format!("attachment; filename=\"{name}\"");
+    Ok((
+        [
+            (header::CONTENT_TYPE, content_type),
+            (header::CONTENT_DISPOSITION, disposition),
+        ],
+        body,
+    )
+        .into_response())
+}

@@ -1,0 +1,117 @@
+//! Operations: liveness, readiness, Prometheus metrics, the OpenAPI document.
+
+use std::fmt::Write;
+use std::sync::atomic::Ordering;
+
+use axum::extract::State;
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use serde_json::json;
+
+use super::problem::Problem;
+use super::state::AppState;
+
+pub const OPENAPI: &str = include_str!("../../openapi.yaml");
+
+pub async fn healthz() -> Response {
+    axum::Json(json!({"status": "ok"})).into_response()
+}
+
+/// Ready when the database answers and the server is not shutting down.
+pub async fn readyz(State(state): State<AppState>) -> Response {
+    if state.shutting_down.load(Ordering::Relaxed) {
+        return Problem::new(StatusCode::SERVICE_UNAVAILABLE, "shutting down").into_response();
+    }
+    if !state.store.ping().await {
+        return Problem::new(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "the database does not answer",
+        )
+        .into_response();
+    }
+    axum::Json(json!({"status": "ready", "workers": state.config.workers})).into_response()
+}
+
+pub async fn openapi() -> Response {
+    ([(header::CONTENT_TYPE, "application/yaml")], OPENAPI).into_response()
+}
+
+/// Prometheus text exposition format 0.0.4.
+pub async fn metrics(State(state): State<AppState>) -> Result<Response, Problem> {
+    let by_status = state.store.count_by_status().await?;
+    let queued = by_status
+        .iter()
+        .find(|(s, _)| s == "queued")
+        .map_or(0, |(_, n)| *n);
+    let c = &state.counters;
+    let mut out = String::new();
+    let mut metric = |name: &str, kind: &str, help: &str, lines: Vec<(String, f64)>| {
+        let _ = writeln!(out, "# HELP {name} {help}\n# TYPE {name} {kind}");
+        for (labels, value) in lines {
+            let _ = writeln!(out, "{name}{labels} {value}");
+        }
+    };
+    metric(
+        "patchwork_queue_depth",
+        "gauge",
+        "Jobs waiting for a worker.",
+        vec![(String::new(), queued as f64)],
+    );
+    metric(
+        "patchwork_jobs",
+        "gauge",
+        "Jobs in the store by status.",
+        ["queued", "running", "succeeded", "failed", "cancelled"]
+            .iter()
+            .map(|s| {
+                let n = by_status
+                    .iter()
+                    .find(|(t, _)| t == s)
+                    .map_or(0, |(_, n)| *n);
+                (format!("{{status=\"{s}\"}}"), n as f64)
+            })
+            .collect(),
+    );
+    metric(
+        "patchwork_workers",
+        "gauge",
+        "Design workers.",
+        vec![(String::new(), state.config.workers as f64)],
+    );
+    metric(
+        "patchwork_evaluations_total",
+        "counter",
+        "Forward evaluations by design jobs since the server started.",
+        vec![(
+            String::new(),
+            c.forward_solves.load(Ordering::Relaxed) as f64,
+        )],
+    );
+    let seconds =
+        |micros: &std::sync::atomic::AtomicU64| micros.load(Ordering::Relaxed) as f64 * 1e-6;
+    metric(
+        "patchwork_job_seconds",
+        "summary",
+        "Wall time of design job runs in this process.",
+        vec![
+            ("_sum".to_string(), seconds(&c.job_micros)),
+            (
+                "_count".to_string(),
+                c.jobs_finished.load(Ordering::Relaxed) as f64,
+            ),
+        ],
+    );
+    metric(
+        "patchwork_simulate_seconds",
+        "summary",
+        "Wall time of synchronous forward solves (POST /v1/simulate).",
+        vec![
+            ("_sum".to_string(), seconds(&c.simulate_micros)),
+            (
+                "_count".to_string(),
+                c.simulate_requests.load(Ordering::Relaxed) as f64,
+            ),
+        ],
+    );
+    Ok(([(header::CONTENT_TYPE, "text/plain; version=0.0.4")], out).into_response())
+}

@@ -1,0 +1,196 @@
+//! Synchronous quick looks: `POST /v1/ksa`, `POST /v1/simulate` (with a time
+//! cap) and `GET /v1/presets`. The computation runs on a blocking thread.
+
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+use axum::Json;
+use axum::extract::State;
+use axum::http::StatusCode;
+use patchwork_core::curve::{Preset, Units};
+use patchwork_core::design::Design;
+use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::{SimulateOptions, simulate};
+use patchwork_core::ksa::{KsaParams, Stretch, ksa};
+use serde::Deserialize;
+use serde_json::{Value, json};
+
+use super::problem::{ApiJson, Problem};
+use super::request::{CurveSpec, validate_design};
+use super::state::AppState;
+use crate::reports::{KsaReport, SimulateReport};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KsaRequest {
+    curve: CurveSpec,
+    #[serde(default)]
+    units: Units,
+    #[serde(default = "default_l0")]
+    l0_mm: f64,
+    #[serde(default = "default_r0")]
+    r0_mm: f64,
+    #[serde(default = "default_kappa_tol")]
+    kappa_tol: f64,
+    #[serde(default = "default_merge")]
+    merge_mm: f64,
+    #[serde(default = "default_width")]
+    width_mm: f64,
+    /// Axial stretch λ; absent = the authors' uniform L_curve / L₀.
+    #[serde(default)]
+    stretch: Option<f64>,
+}
+
+fn default_l0() -> f64 {
+    KsaParams::default().l0_mm
+}
+fn default_r0() -> f64 {
+    KsaParams::default().r0_mm
+}
+fn default_kappa_tol() -> f64 {
+    KsaParams::default().kappa_tol
+}
+fn default_merge() -> f64 {
+    KsaParams::default().merge_mm
+}
+fn default_width() -> f64 {
+    KsaParams::default().width_mm
+}
+
+fn positive(field: &str, value: f64) -> Result<(), Problem> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Problem::invalid(
+            field,
+            format!("{field} must be a finite positive number"),
+        ))
+    }
+}
+
+/// Runs CPU work off the async runtime.
+async fn blocking<T: Send + 'static>(
+    work: impl FnOnce() -> T + Send + 'static,
+) -> Result<T, Problem> {
+    tokio::task::spawn_blocking(work)
+        .await
+        .map_err(Problem::internal)
+}
+
+pub async fn ksa_route(ApiJson(body): ApiJson<KsaRequest>) -> Result<Json<KsaReport>, Problem> {
+    for (field, value) in [
+        ("l0_mm", body.l0_mm),
+        ("r0_mm", body.r0_mm),
+        ("kappa_tol", body.kappa_tol),
+        ("merge_mm", body.merge_mm),
+        ("width_mm", body.width_mm),
+    ] {
+        positive(field, value)?;
+    }
+    if let Some(lambda) = body.stretch {
+        positive("stretch", lambda)?;
+    }
+    let curve = body.curve.load(body.units, "curve")?;
+    let params = KsaParams {
+        l0_mm: body.l0_mm,
+        r0_mm: body.r0_mm,
+        kappa_tol: body.kappa_tol,
+        merge_mm: body.merge_mm,
+        width_mm: body.width_mm,
+        stretch: body.stretch.map_or(Stretch::Uniform, Stretch::Fixed),
+        ..KsaParams::default()
+    };
+    blocking(move || {
+        ksa(&curve, &params)
+            .map(|r| Json(KsaReport::new(&curve, r)))
+            .map_err(|e| Problem::invalid("curve", e.to_string()))
+    })
+    .await?
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulateRequest {
+    design: Design,
+    #[serde(default = "default_mesh")]
+    mesh_mm: f64,
+    #[serde(default = "default_rings")]
+    rings: usize,
+}
+
+fn default_mesh() -> f64 {
+    2.0
+}
+fn default_rings() -> usize {
+    72
+}
+
+/// Finest element size the synchronous route accepts (a design job may go finer).
+const MIN_SYNC_MESH_MM: f64 = 0.5;
+
+pub async fn simulate_route(
+    State(state): State<AppState>,
+    ApiJson(body): ApiJson<SimulateRequest>,
+) -> Result<Json<SimulateReport>, Problem> {
+    validate_design(&body.design, "design")?;
+    if !(body.mesh_mm.is_finite() && body.mesh_mm >= MIN_SYNC_MESH_MM && body.mesh_mm <= 20.0) {
+        return Err(Problem::invalid(
+            "mesh_mm",
+            format!("mesh_mm must be between {MIN_SYNC_MESH_MM} and 20 mm"),
+        ));
+    }
+    if !(8..=2000).contains(&body.rings) {
+        return Err(Problem::invalid(
+            "rings",
+            "rings must be between 8 and 2000",
+        ));
+    }
+    let cap = state.config.simulate_time_limit;
+    let mut options = SimulateOptions {
+        mesh: MeshSpec::uniform(body.mesh_mm),
+        rings: body.rings,
+        ..SimulateOptions::default()
+    };
+    options.newton.time_limit = cap;
+    let started = Instant::now();
+    let work = blocking(move || simulate(&body.design, &options));
+    // The solver honours the cap itself; this guards the response regardless.
+    let outcome = tokio::time::timeout(cap * 3 + Duration::from_secs(5), work).await;
+    let counters = &state.counters;
+    counters.simulate_requests.fetch_add(1, Ordering::Relaxed);
+    counters
+        .simulate_micros
+        .fetch_add(started.elapsed().as_micros() as u64, Ordering::Relaxed);
+    match outcome {
+        Ok(Ok(Ok(sim))) => Ok(Json(SimulateReport::new(&sim))),
+        Ok(Ok(Err(e))) => Err(Problem::invalid("design", e.to_string())),
+        Ok(Err(p)) => Err(p),
+        Err(_) => {
+            let mut p = Problem::new(
+                StatusCode::SERVICE_UNAVAILABLE,
+                format!(
+                    "the simulation exceeded the {} s cap of this synchronous route; \
+                     use a coarser mesh_mm or submit a design job",
+                    cap.as_secs()
+                ),
+            );
+            p.retry_after_s = Some(10);
+            Err(p)
+        }
+    }
+}
+
+pub async fn presets() -> Json<Value> {
+    let list: Vec<Value> = Preset::NAMES
+        .iter()
+        .map(|name| {
+            let params = Preset::from_name(name, json!({}))
+                .ok()
+                .and_then(|p| serde_json::to_value(p).ok())
+                .and_then(|v| v.get("params").cloned())
+                .unwrap_or_else(|| json!({"name": ["hilbert", "pancake", "spring"]}));
+            json!({ "name": name, "params": params })
+        })
+        .collect();
+    Json(json!({ "presets": list }))
+}

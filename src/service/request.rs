@@ -1,0 +1,175 @@
+//! The job request (`POST /v1/jobs`) and the quick-look bodies, checked at the
+//! boundary: whatever passes here is a design run that can start.
+
+use patchwork_core::curve::{Curve, Preset, Units, read_json, read_text};
+use patchwork_core::design::Design;
+use patchwork_core::inverse::{DesignRequest, Fidelity, Freedom, VariableBounds};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+use super::problem::Problem;
+
+/// Most forward evaluations one job may ask for.
+pub const MAX_BUDGET: usize = 100_000;
+
+/// The target curve: exactly one of `points`, `csv` or `preset`.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurveSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub points: Option<Vec<Vec<f64>>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub csv: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub params: Option<Value>,
+    /// Sample count for presets.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub samples: Option<usize>,
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JobOptions {
+    /// Forward evaluations of the search (default: the fidelity's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub budget: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fidelity: Option<Fidelity>,
+    /// Keep `design.balloon.length_mm` instead of matching the target length.
+    #[serde(default)]
+    pub fix_length: bool,
+}
+
+/// `POST /v1/jobs`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JobRequest {
+    pub curve: CurveSpec,
+    #[serde(default)]
+    pub units: Units,
+    /// Balloon, patch and pressure: the design JSON without `patches`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub design: Option<Value>,
+    #[serde(default)]
+    pub options: JobOptions,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bounds: Option<VariableBounds>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub freedom: Option<Freedom>,
+}
+
+/// A validated job: the target and the run's settings.
+pub struct Prepared {
+    pub target: Curve,
+    pub request: DesignRequest,
+}
+
+impl JobRequest {
+    /// Every check a run would otherwise fail late on, naming the field.
+    pub fn prepare(&self) -> Result<Prepared, Problem> {
+        let target = self.curve.load(self.units, "curve")?;
+        let base = design_base(self.design.as_ref(), "design")?;
+        let fidelity = self.options.fidelity.unwrap_or_default();
+        let budget = self.options.budget.unwrap_or(fidelity.budget());
+        if !(1..=MAX_BUDGET).contains(&budget) {
+            return Err(Problem::invalid(
+                "options.budget",
+                format!("must be between 1 and {MAX_BUDGET} evaluations, got {budget}"),
+            ));
+        }
+        let bounds = self.bounds.unwrap_or_default();
+        bounds
+            .validate()
+            .map_err(|e| Problem::invalid(format!("bounds.{}", e.field), e.to_string()))?;
+        let mut request = DesignRequest {
+            base,
+            fix_length: self.options.fix_length,
+            freedom: self.freedom.unwrap_or_default(),
+            bounds,
+            budget,
+            seed: self.options.seed.unwrap_or(1),
+            // One job per worker, one worker per core.
+            threads: 1,
+            ..DesignRequest::default()
+        };
+        fidelity.apply(&mut request);
+        Ok(Prepared { target, request })
+    }
+}
+
+impl CurveSpec {
+    pub fn load(&self, units: Units, field: &str) -> Result<Curve, Problem> {
+        let given = [
+            self.points.is_some(),
+            self.csv.is_some(),
+            self.preset.is_some(),
+        ];
+        if given.iter().filter(|&&g| g).count() != 1 {
+            return Err(Problem::invalid(
+                field,
+                "give exactly one of `points`, `csv` or `preset`",
+            ));
+        }
+        if self.params.is_some() && self.preset.is_none() {
+            return Err(Problem::invalid(
+                format!("{field}.params"),
+                "`params` belongs to a `preset`",
+            ));
+        }
+        if let Some(points) = &self.points {
+            let json = serde_json::json!({ "points": points }).to_string();
+            return read_json(&json, units)
+                .map_err(|e| Problem::invalid(format!("{field}.points"), e.to_string()));
+        }
+        if let Some(csv) = &self.csv {
+            return read_text(csv, units)
+                .map_err(|e| Problem::invalid(format!("{field}.csv"), e.to_string()));
+        }
+        let name = self.preset.as_deref().unwrap_or_default();
+        let params = self
+            .params
+            .clone()
+            .unwrap_or(Value::Object(Default::default()));
+        let preset = Preset::from_name(name, params)
+            .map_err(|e| Problem::invalid(format!("{field}.preset"), e))?;
+        // Presets are defined in millimetres; `units` applies to points and CSV.
+        preset
+            .curve(self.samples)
+            .map_err(|e| Problem::invalid(format!("{field}.params"), e.to_string()))
+    }
+}
+
+/// The design JSON without patches (defaults: the reference scene), validated.
+pub fn design_base(value: Option<&Value>, field: &str) -> Result<Design, Problem> {
+    let mut value = value.cloned().unwrap_or(Value::Object(Default::default()));
+    let Some(object) = value.as_object_mut() else {
+        return Err(Problem::invalid(field, "must be an object"));
+    };
+    if object.contains_key("patches") {
+        return Err(Problem::invalid(
+            format!("{field}.patches"),
+            "a job designs the patches: leave `patches` out",
+        ));
+    }
+    object.insert("patches".into(), Value::Array(vec![]));
+    let design: Design = serde_path_to_error::deserialize(value)
+        .map_err(|e| Problem::invalid(format!("{field}.{}", e.path()), e.inner().to_string()))?;
+    validate_design(&design, field)?;
+    Ok(design)
+}
+
+/// `Design::validate`, the field path prefixed.
+pub fn validate_design(design: &Design, field: &str) -> Result<(), Problem> {
+    design.validate().map_err(|e| {
+        let path = if field.is_empty() {
+            e.field.clone()
+        } else {
+            format!("{field}.{}", e.field)
+        };
+        Problem::invalid(path.clone(), format!("{path}: {}", e.reason))
+    })
+}

@@ -1,0 +1,376 @@
+//! The job store: one SQLite file (WAL, busy timeout, foreign keys), migrated
+//! at start by sqlx from `migrations/`. Every event, iteration, checkpoint and
+//! result file of a job lives here, so nothing is lost on restart.
+
+use std::path::Path;
+use std::time::Duration;
+
+use patchwork_core::fabrication::OutputFile;
+use serde::Serialize;
+use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
+use sqlx::{FromRow, SqlitePool};
+
+#[derive(Clone)]
+pub struct Store {
+    pool: SqlitePool,
+}
+
+/// A job as stored (without its checkpoint and result).
+#[derive(Debug, Clone, FromRow)]
+pub struct JobRow {
+    pub id: String,
+    pub status: String,
+    pub request: String,
+    pub created_at: String,
+    pub updated_at: String,
+    pub progress: Option<String>,
+    pub error: Option<String>,
+}
+
+/// One server-sent event of a job.
+#[derive(Debug, Clone, FromRow)]
+pub struct StoredEvent {
+    pub seq: i64,
+    pub kind: String,
+    pub data: String,
+}
+
+/// One CMA-ES generation of a job.
+#[derive(Debug, Clone, Serialize, FromRow)]
+pub struct Iteration {
+    pub evaluations: i64,
+    pub generation: i64,
+    pub best_objective: f64,
+    pub sigma: f64,
+    pub elapsed_s: f64,
+}
+
+pub const TERMINAL: [&str; 3] = ["succeeded", "failed", "cancelled"];
+
+const JOB_COLUMNS: &str = "id, status, request, created_at, updated_at, progress, error";
+
+/// Now, as fixed-width RFC 3339 UTC (sorts as text).
+pub fn now() -> String {
+    let format = time::macros::format_description!(
+        "[year]-[month]-[day]T[hour]:[minute]:[second].[subsecond digits:6]Z"
+    );
+    time::OffsetDateTime::now_utc()
+        .format(&format)
+        .unwrap_or_default()
+}
+
+impl Store {
+    pub async fn open(path: &Path) -> Result<Store, sqlx::Error> {
+        let options = SqliteConnectOptions::new()
+            .filename(path)
+            .create_if_missing(true)
+            .journal_mode(SqliteJournalMode::Wal)
+            .synchronous(SqliteSynchronous::Normal)
+            .busy_timeout(Duration::from_secs(10))
+            .foreign_keys(true);
+        let pool = SqlitePoolOptions::new()
+            .max_connections(8)
+            .connect_with(options)
+            .await?;
+        sqlx::migrate!("./migrations").run(&pool).await?;
+        Ok(Store { pool })
+    }
+
+    pub async fn ping(&self) -> bool {
+        sqlx::query("SELECT 1").execute(&self.pool).await.is_ok()
+    }
+
+    /// Inserts a queued job; `None` when the owner already used `idempotency_key`.
+    pub async fn insert_job(
+        &self,
+        id: &str,
+        owner: &str,
+        request: &str,
+        idempotency_key: Option<&str>,
+    ) -> Result<Option<JobRow>, sqlx::Error> {
+        let at = now();
+        let sql = format!(
+            "INSERT INTO jobs (id, owner, status, request, idempotency_key, created_at, updated_at)
+             VALUES (?, ?, 'queued', ?, ?, ?, ?)
+             ON CONFLICT DO NOTHING RETURNING {JOB_COLUMNS}"
+        );
+        sqlx::query_as::<_, JobRow>(&sql)
+            .bind(id)
+            .bind(owner)
+            .bind(request)
+            .bind(idempotency_key)
+            .bind(&at)
+            .bind(&at)
+            .fetch_optional(&self.pool)
+            .await
+    }
+
+    pub async fn job_by_idempotency_key(
+        &self,
+        owner: &str,
+        key: &str,
+    ) -> Result<Option<JobRow>, sqlx::Error> {
+        let sql = format!("SELECT {JOB_COLUMNS} FROM jobs WHERE owner = ? AND idempotency_key = ?");
+        sqlx::query_as(&sql)
+            .bind(owner)
+            .bind(key)
+            .fetch_optional(&self.pool)
+            .await
+    }
+
+    /// The job if it exists and belongs to `owner` (`None` sees every job).
+    pub async fn job(&self, id: &str, owner: Option<&str>) -> Result<Option<JobRow>, sqlx::Error> {
+        let sql =
+            format!("SELECT {JOB_COLUMNS} FROM jobs WHERE id = ? AND (? IS NULL OR owner = ?)");
+        sqlx::query_as(&sql)
+            .bind(id)
+            .bind(owner)
+            .bind(owner)
+            .fetch_optional(&self.pool)
+            .await
+    }
+
+    /// Newest first; `before` is the id of the last job of the previous page.
+    pub async fn list_jobs(
+        &self,
+        owner: Option<&str>,
+        status: Option<&str>,
+        before: Option<&str>,
+        limit: i64,
+    ) -> Result<Vec<JobRow>, sqlx::Error> {
+        let sql = format!(
+            "SELECT {JOB_COLUMNS} FROM jobs
+             WHERE (?1 IS NULL OR owner = ?1) AND (?2 IS NULL OR status = ?2)
+               AND (?3 IS NULL OR id < ?3)
+             ORDER BY id DESC LIMIT ?4"
+        );
+        sqlx::query_as(&sql)
+            .bind(owner)
+            .bind(status)
+            .bind(before)
+            .bind(limit)
+            .fetch_all(&self.pool)
+            .await
+    }
+
+    pub async fn count_by_status(&self) -> Result<Vec<(String, i64)>, sqlx::Error> {
+        sqlx::query_as("SELECT status, COUNT(*) FROM jobs GROUP BY status")
+            .fetch_all(&self.pool)
+            .await
+    }
+
+    pub async fn queued_count(&self) -> Result<i64, sqlx::Error> {
+        sqlx::query_scalar("SELECT COUNT(*) FROM jobs WHERE status = 'queued'")
+            .fetch_one(&self.pool)
+            .await
+    }
+
+    /// Takes the oldest queued job and marks it running.
+    pub async fn claim_next(&self) -> Result<Option<(JobRow, Option<String>)>, sqlx::Error> {
+        let sql = format!(
+            "UPDATE jobs SET status = 'running', updated_at = ?
+             WHERE id = (SELECT id FROM jobs WHERE status = 'queued' ORDER BY id LIMIT 1)
+               AND status = 'queued'
+             RETURNING {JOB_COLUMNS}, checkpoint"
+        );
+        let row: Option<(JobRow, Option<String>)> = sqlx::query(&sql)
+            .bind(now())
+            .fetch_optional(&self.pool)
+            .await?
+            .map(|row| {
+                use sqlx::Row;
+                let checkpoint: Option<String> = row.get("checkpoint");
+                JobRow::from_row(&row).map(|job| (job, checkpoint))
+            })
+            .transpose()?;
+        Ok(row)
+    }
+
+    /// After a crash: jobs that were running are queued again (they resume
+    /// from their checkpoints). Returns how many.
+    pub async fn requeue_running(&self) -> Result<u64, sqlx::Error> {
+        Ok(sqlx::query(
+            "UPDATE jobs SET status = 'queued', updated_at = ? WHERE status = 'running'",
+        )
+        .bind(now())
+        .execute(&self.pool)
+        .await?
+        .rows_affected())
+    }
+
+    /// Moves a job that has not ended to `status`; false if it had ended.
+    pub async fn set_status(
+        &self,
+        id: &str,
+        status: &str,
+        error: Option<&str>,
+    ) -> Result<bool, sqlx::Error> {
+        let done = sqlx::query(
+            "UPDATE jobs SET status = ?, error = ?, updated_at = ?
+             WHERE id = ? AND status NOT IN ('succeeded', 'failed', 'cancelled')",
+        )
+        .bind(status)
+        .bind(error)
+        .bind(now())
+        .bind(id)
+        .execute(&self.pool)
+        .await?;
+        Ok(done.rows_affected() == 1)
+    }
+
+    /// Appends an event with the job's next id.
+    pub async fn append_event(
+        &self,
+        id: &str,
+        kind: &str,
+        data: &str,
+    ) -> Result<StoredEvent, sqlx::Error> {
+        sqlx::query_as(
+            "INSERT INTO events (job_id, seq, kind, data, created_at)
+             SELECT ?1, COALESCE(MAX(seq), 0) + 1, ?2, ?3, ?4 FROM events WHERE job_id = ?1
+             RETURNING seq, kind, data",
+        )
+        .bind(id)
+        .bind(kind)
+        .bind(data)
+        .bind(now())
+        .fetch_one(&self.pool)
+        .await
+    }
+
+    pub async fn events_after(
+        &self,
+        id: &str,
+        after: i64,
+    ) -> Result<Vec<StoredEvent>, sqlx::Error> {
+        sqlx::query_as(
+            "SELECT seq, kind, data FROM events WHERE job_id = ? AND seq > ? ORDER BY seq",
+        )
+        .bind(id)
+        .bind(after)
+        .fetch_all(&self.pool)
+        .await
+    }
+
+    /// The latest progress, and the generation's row when it is one.
+    pub async fn record_progress(
+        &self,
+        id: &str,
+        progress: &str,
+        iteration: Option<&Iteration>,
+    ) -> Result<(), sqlx::Error> {
+        let mut tx = self.pool.begin().await?;
+        sqlx::query("UPDATE jobs SET progress = ?, updated_at = ? WHERE id = ?")
+            .bind(progress)
+            .bind(now())
+            .bind(id)
+            .execute(&mut *tx)
+            .await?;
+        if let Some(it) = iteration {
+            sqlx::query(
+                "INSERT OR REPLACE INTO iterations
+                 (job_id, evaluations, generation, best_objective, sigma, elapsed_s)
+                 VALUES (?, ?, ?, ?, ?, ?)",
+            )
+            .bind(id)
+            .bind(it.evaluations)
+            .bind(it.generation)
+            .bind(it.best_objective)
+            .bind(it.sigma)
+            .bind(it.elapsed_s)
+            .execute(&mut *tx)
+            .await?;
+        }
+        tx.commit().await
+    }
+
+    pub async fn save_checkpoint(&self, id: &str, checkpoint: &str) -> Result<(), sqlx::Error> {
+        sqlx::query("UPDATE jobs SET checkpoint = ? WHERE id = ?")
+            .bind(checkpoint)
+            .bind(id)
+            .execute(&self.pool)
+            .await
+            .map(|_| ())
+    }
+
+    /// Stores the result and its files and marks the job succeeded, at once.
+    /// False (nothing stored) when the job had already ended (cancelled).
+    pub async fn finish(
+        &self,
+        id: &str,
+        result: &str,
+        files: &[OutputFile],
+    ) -> Result<bool, sqlx::Error> {
+        let mut tx = self.pool.begin().await?;
+        let updated = sqlx::query(
+            "UPDATE jobs SET status = 'succeeded', result = ?, updated_at = ?
+             WHERE id = ? AND status = 'running'",
+        )
+        .bind(result)
+        .bind(now())
+        .bind(id)
+        .execute(&mut *tx)
+        .await?;
+        if updated.rows_affected() != 1 {
+            return Ok(false);
+        }
+        for file in files {
+            sqlx::query(
+                "INSERT OR REPLACE INTO files (job_id, name, content_type, body) VALUES (?, ?, ?, ?)",
+            )
+            .bind(id)
+            .bind(file.name)
+            .bind(file.content_type)
+            .bind(&file.body)
+            .execute(&mut *tx)
+            .await?;
+        }
+        tx.commit().await?;
+        Ok(true)
+    }
+
+    pub async fn iterations(
+        &self,
+        id: &str,
+        after: i64,
+        limit: i64,
+    ) -> Result<Vec<Iteration>, sqlx::Error> {
+        sqlx::query_as(
+            "SELECT evaluations, generation, best_objective, sigma, elapsed_s FROM iterations
+             WHERE job_id = ? AND evaluations > ? ORDER BY evaluations LIMIT ?",
+        )
+        .bind(id)
+        .bind(after)
+        .bind(limit)
+        .fetch_all(&self.pool)
+        .await
+    }
+
+    pub async fn result(&self, id: &str) -> Result<Option<String>, sqlx::Error> {
+        sqlx::query_scalar("SELECT result FROM jobs WHERE id = ?")
+            .bind(id)
+            .fetch_optional(&self.pool)
+            .await
+            .map(Option::flatten)
+    }
+
+    pub async fn file(
+        &self,
+        id: &str,
+        name: &str,
+    ) -> Result<Option<(String, Vec<u8>)>, sqlx::Error> {
+        sqlx::query_as("SELECT content_type, body FROM files WHERE job_id = ? AND name = ?")
+            .bind(id)
+            .bind(name)
+            .fetch_optional(&self.pool)
+            .await
+    }
+
+    pub async fn delete(&self, id: &str) -> Result<(), sqlx::Error> {
+        sqlx::query("DELETE FROM jobs WHERE id = ?")
+            .bind(id)
+            .execute(&self.pool)
+            .await
+            .map(|_| ())
+    }
+}

@@ -1,0 +1,261 @@
+//! The worker pool: each worker takes the oldest queued job, runs the design
+//! pipeline on a blocking thread (never on the async runtime), and streams its
+//! progress, iterations and checkpoints into the store as it goes. A job found
+//! `running` at start-up was interrupted: it is queued again and resumes from
+//! its last checkpoint.
+
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+use patchwork_core::inverse::{
+    DesignCheckpoint, DesignHooks, DesignProgress, DesignReport, DesignRunError, Stage,
+    design_resumable,
+};
+use serde_json::json;
+use tokio::sync::mpsc;
+use tracing::Instrument;
+
+use super::request::JobRequest;
+use super::state::{AppState, JobControl, StopReason};
+use super::store::{Iteration, JobRow};
+use patchwork_core::fabrication::design_files;
+
+/// What the blocking pipeline tells the async side, in order.
+enum Message {
+    Progress(DesignProgress),
+    Checkpoint(String),
+}
+
+pub fn start(state: &AppState) -> Vec<tokio::task::JoinHandle<()>> {
+    (0..state.config.workers)
+        .map(|n| {
+            let state = state.clone();
+            tokio::spawn(async move { worker(state, n).await })
+        })
+        .collect()
+}
+
+async fn worker(state: AppState, n: usize) {
+    loop {
+        if state.shutting_down.load(Ordering::Relaxed) {
+            return;
+        }
+        match state.store.claim_next().await {
+            Ok(Some((job, checkpoint))) => {
+                let span = tracing::info_span!("job", id = %job.id, worker = n);
+                run_job(&state, job, checkpoint).instrument(span).await;
+            }
+            Ok(None) => {
+                // Sleep until a job is queued; poll now and then regardless.
+                let _ = tokio::time::timeout(Duration::from_secs(2), state.wake.notified()).await;
+            }
+            Err(e) => {
+                tracing::error!("claiming a job: {e}");
+                tokio::time::sleep(Duration::from_secs(1)).await;
+            }
+        }
+    }
+}
+
+async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
+    let id = job.id.clone();
+    let request: JobRequest = match serde_json::from_str(&job.request) {
+        Ok(r) => r,
+        Err(e) => return fail(state, &id, &format!("stored request unreadable: {e}")).await,
+    };
+    let prepared = match request.prepare() {
+        Ok(p) => p,
+        Err(p) => return fail(state, &id, &p.detail).await,
+    };
+    let resume: Option<DesignCheckpoint> = checkpoint.and_then(|c| serde_json::from_str(&c).ok());
+    let earlier = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
+    if let Some(c) = &resume {
+        tracing::info!(evaluations = c.evaluations, "resuming from checkpoint");
+    } else {
+        tracing::info!("starting");
+    }
+    let control = Arc::new(JobControl::default());
+    if let Ok(mut running) = state.running.lock() {
+        running.insert(id.clone(), control.clone());
+    }
+    let limit = state
+        .config
+        .job_time_limit
+        .saturating_sub(Duration::from_secs_f64(earlier));
+    let timer = {
+        let control = control.clone();
+        tokio::spawn(async move {
+            tokio::time::sleep(limit).await;
+            control.stop(StopReason::TimeLimit);
+        })
+    };
+    let (tx, mut rx) = mpsc::unbounded_channel();
+    let seed = prepared.request.seed;
+    let span = tracing::Span::current();
+    let compute = {
+        let control = control.clone();
+        tokio::task::spawn_blocking(move || {
+            let _entered = span.enter();
+            let progress_tx = tx.clone();
+            design_resumable(
+                &prepared.target,
+                &prepared.request,
+                resume,
+                DesignHooks {
+                    cancel: &control.cancel,
+                    observer: &mut |p| {
+                        let _ = progress_tx.send(Message::Progress(*p));
+                    },
+                    checkpoint: &mut |c| {
+                        if let Ok(text) = serde_json::to_string(c) {
+                            let _ = tx.send(Message::Checkpoint(text));
+                        }
+                    },
+                },
+            )
+        })
+    };
+    let started = Instant::now();
+    let mut last_stage = None;
+    let mut last_evaluations = 0;
+    while let Some(message) = rx.recv().await {
+        if let Err(e) = record(state, &id, message, &mut last_stage, &mut last_evaluations).await {
+            tracing::error!("recording progress: {e}");
+        }
+    }
+    let outcome = compute.await;
+    timer.abort();
+    if let Ok(mut running) = state.running.lock() {
+        running.remove(&id);
+    }
+    let counters = &state.counters;
+    counters.jobs_finished.fetch_add(1, Ordering::Relaxed);
+    counters
+        .job_micros
+        .fetch_add(started.elapsed().as_micros() as u64, Ordering::Relaxed);
+    match outcome {
+        Ok(Ok(outcome)) => {
+            let report = DesignReport::new(&outcome, seed);
+            let files = match design_files(&report) {
+                Ok(files) => files,
+                Err(e) => return fail(state, &id, &format!("writing the result files: {e}")).await,
+            };
+            let result = files
+                .iter()
+                .find(|f| f.name == "design.json")
+                .map(|f| String::from_utf8_lossy(&f.body).into_owned())
+                .unwrap_or_default();
+            match state.store.finish(&id, &result, &files).await {
+                Ok(true) => {
+                    let m = &report.metrics;
+                    let _ = state
+                        .emit(
+                            &id,
+                            "done",
+                            &json!({
+                                "result": format!("/v1/jobs/{id}/result"),
+                                "shape_error_percent": finite(m.shape_error_percent),
+                                "objective": finite(m.objective),
+                                "evaluations": report.evaluations,
+                                "elapsed_s": report.elapsed_s,
+                            }),
+                        )
+                        .await;
+                    tracing::info!(
+                        evaluations = report.evaluations,
+                        shape_error_percent = m.shape_error_percent,
+                        "succeeded"
+                    );
+                }
+                Ok(false) => tracing::info!("finished after it was cancelled; result dropped"),
+                Err(e) => tracing::error!("storing the result: {e}"),
+            }
+        }
+        Ok(Err(DesignRunError::Cancelled)) => match control.reason() {
+            Some(StopReason::Shutdown) => {
+                // Back to the queue: the next start resumes from the checkpoint.
+                let _ = state.store.set_status(&id, "queued", None).await;
+                tracing::info!("interrupted by shutdown; queued to resume");
+            }
+            Some(StopReason::TimeLimit) => {
+                let limit = state.config.job_time_limit.as_secs();
+                fail(state, &id, &format!("time limit of {limit} s exceeded")).await
+            }
+            _ => tracing::info!("stopped: cancelled"),
+        },
+        Ok(Err(e)) => fail(state, &id, &e.to_string()).await,
+        Err(e) => fail(state, &id, &format!("internal error: {e}")).await,
+    }
+}
+
+/// NaN and infinities have no JSON form: report them as null.
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+async fn record(
+    state: &AppState,
+    id: &str,
+    message: Message,
+    last_stage: &mut Option<Stage>,
+    last_evaluations: &mut usize,
+) -> Result<(), sqlx::Error> {
+    match message {
+        Message::Checkpoint(text) => state.store.save_checkpoint(id, &text).await,
+        Message::Progress(p) => {
+            if *last_stage != Some(p.stage) {
+                *last_stage = Some(p.stage);
+                state.emit(id, "stage", &json!({"stage": p.stage})).await?;
+            }
+            let progress = json!({
+                "stage": p.stage,
+                "generation": p.generation,
+                "evaluations": p.evaluations,
+                "best_objective": finite(p.best_objective),
+                "sigma": p.sigma,
+                "elapsed_s": p.elapsed_s,
+            });
+            let iteration = (p.stage == Stage::Search).then_some(Iteration {
+                evaluations: p.evaluations as i64,
+                generation: p.generation as i64,
+                best_objective: p.best_objective,
+                sigma: p.sigma,
+                elapsed_s: p.elapsed_s,
+            });
+            state.counters.forward_solves.fetch_add(
+                p.evaluations.saturating_sub(*last_evaluations) as u64,
+                Ordering::Relaxed,
+            );
+            *last_evaluations = p.evaluations;
+            state
+                .store
+                .record_progress(id, &progress.to_string(), iteration.as_ref())
+                .await?;
+            if p.stage == Stage::Search {
+                state.emit(id, "progress", &progress).await?;
+            }
+            Ok(())
+        }
+    }
+}
+
+async fn fail(state: &AppState, id: &str, error: &str) {
+    tracing::warn!("failed: {error}");
+    match state.store.set_status(id, "failed", Some(error)).await {
+        Ok(true) => {
+            let _ = state.emit(id, "failed", &json!({ "error": error })).await;
+        }
+        Ok(false) => {}
+        Err(e) => tracing::error!("marking failed: {e}"),
+    }
+}
+
+/// Stops every running job for shutdown; they return to the queue.
+pub fn stop_all(state: &AppState) {
+    if let Ok(running) = state.running.lock() {
+        for control in running.values() {
+            control.stop(StopReason::Shutdown);
+        }
+    }
+}
