@@ -136,8 +136,26 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Problem> {
         )
     })?;
     serde_path_to_error::deserialize(value).map_err(|e| {
-        let path = e.path().to_string();
-        let detail = format!("{path}: {}", e.inner());
-        Problem::invalid(if path == "." { String::new() } else { path }, detail)
+        let field = field_of(&e.path().to_string(), &e.inner().to_string());
+        let detail = if field.is_empty() {
+            e.inner().to_string()
+        } else {
+            format!("{field}: {}", e.inner())
+        };
+        Problem::invalid(field, detail)
     })
+}
+
+/// The JSON path serde blames, completed with the field a "missing field"
+/// message names (serde reports that one at the parent).
+pub fn field_of(path: &str, message: &str) -> String {
+    let parent = if path == "." { "" } else { path };
+    let named = message
+        .strip_prefix("missing field `")
+        .and_then(|rest| rest.split('`').next());
+    match (parent, named) {
+        ("", Some(name)) => name.to_string(),
+        (parent, Some(name)) => format!("{parent}.{name}"),
+        (parent, None) => parent.to_string(),
+    }
 }

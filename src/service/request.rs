@@ -7,7 +7,7 @@ use patchwork_core::inverse::{DesignRequest, Fidelity, Freedom, VariableBounds};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
-use super::problem::Problem;
+use super::problem::{Problem, field_of};
 
 /// Most forward evaluations one job may ask for.
 pub const MAX_BUDGET: usize = 100_000;
@@ -156,8 +156,15 @@ pub fn design_base(value: Option<&Value>, field: &str) -> Result<Design, Problem
         ));
     }
     object.insert("patches".into(), Value::Array(vec![]));
-    let design: Design = serde_path_to_error::deserialize(value)
-        .map_err(|e| Problem::invalid(format!("{field}.{}", e.path()), e.inner().to_string()))?;
+    let design: Design = serde_path_to_error::deserialize(value).map_err(|e| {
+        let inner = field_of(&e.path().to_string(), &e.inner().to_string());
+        let path = if inner.is_empty() {
+            field.to_string()
+        } else {
+            format!("{field}.{inner}")
+        };
+        Problem::invalid(path.clone(), format!("{path}: {}", e.inner()))
+    })?;
     validate_design(&design, field)?;
     Ok(design)
 }

@@ -1,0 +1,223 @@
+//! Every kind of bad input gets a 4xx problem+json naming the field, and the
+//! server keeps working (nothing is queued, nothing crashes).
+
+use serde_json::{Value, json};
+
+use crate::support::*;
+
+async fn post_raw(api: &Api, path: &str, content_type: &str, body: Vec<u8>) -> reqwest::Response {
+    api.request(reqwest::Method::POST, path)
+        .header("content-type", content_type)
+        .body(body)
+        .send()
+        .await
+        .unwrap()
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn bad_job_requests_are_4xx_problems_naming_the_field() {
+    let server = Server::start();
+    let api = server.api();
+    let json_type = "application/json";
+
+    // Malformed JSON, and a number JSON cannot hold (non-finite).
+    assert_problem(
+        post_raw(&api, "/v1/jobs", json_type, b"{\"curve\": ".to_vec()).await,
+        400,
+        None,
+    )
+    .await;
+    let huge = br#"{"curve": {"points": [[0,0,0],[1,0,0],[2,1e999,0],[3,0,0]]}}"#.to_vec();
+    assert_problem(post_raw(&api, "/v1/jobs", json_type, huge).await, 400, None).await;
+    // Not JSON at all.
+    assert_problem(
+        post_raw(&api, "/v1/jobs", "text/plain", b"x,y,z".to_vec()).await,
+        415,
+        Some("Content-Type"),
+    )
+    .await;
+
+    let cases: Vec<(Value, &str)> = vec![
+        (json!({}), "curve"),
+        (json!({"curve": {}}), "curve"),
+        (
+            json!({"curve": {"points": [[0, 0, 0], [1, 0, 0]]}}),
+            "curve.points",
+        ),
+        (
+            json!({"curve": {"points": [[0, 0, 0], [1, 0], [2, 0, 0], [3, 0, 0]]}}),
+            "curve.points",
+        ),
+        (json!({"curve": {"points": "many"}}), "curve.points"),
+        (
+            json!({"curve": {"csv": "x,y,z\n0,0,0\n1,0,zero\n2,0,0\n3,0,0\n"}}),
+            "curve.csv",
+        ),
+        (json!({"curve": {"preset": "spiral"}}), "curve.preset"),
+        (
+            json!({"curve": {"preset": "helix", "params": {"radius_mm": -1}}}),
+            "curve.params",
+        ),
+        (
+            json!({"curve": {"preset": "helix", "params": {"colour": 1}}}),
+            "curve.preset",
+        ),
+        (json!({"curve": {"preset": "arc", "csv": "0,0,0"}}), "curve"),
+        (
+            json!({"curve": {"preset": "arc"}, "units": "furlong"}),
+            "units",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "colour": "red"}),
+            "colour",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "options": {"budget": 0}}),
+            "options.budget",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "options": {"budget": 10_000_000}}),
+            "options.budget",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "options": {"fidelity": "ultra"}}),
+            "options.fidelity",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "options": {"seed": -1}}),
+            "options.seed",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "bounds": {"h_min_mm": 40, "h_max_mm": 10}}),
+            "bounds.h_min_mm",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "bounds": {"theta_limit_deg": 120}}),
+            "bounds.theta_limit_deg",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "design": {"pressure_kpa": -5}}),
+            "design.pressure_kpa",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "design": {"balloon": {"wall_mm": 10}}}),
+            "design.balloon.wall_mm",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "design": {"balloon": {"material": {"model": "rubber"}}}}),
+            "design.balloon.material",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "design": {"patches": []}}),
+            "design.patches",
+        ),
+    ];
+    for (body, field) in cases {
+        let response = api.post("/v1/jobs", &body).await;
+        let problem = assert_problem(response, 422, None).await;
+        let named = problem["field"].as_str().unwrap_or("");
+        assert!(
+            named.starts_with(field),
+            "{body}: expected field {field:?}, got {problem}"
+        );
+        println!("{named:<28} {}", problem["detail"]);
+    }
+
+    // Too many points.
+    let points: Vec<[f64; 3]> = (0..100_001).map(|i| [i as f64, 0.0, 0.0]).collect();
+    let response = api
+        .post("/v1/jobs", &json!({"curve": {"points": points}}))
+        .await;
+    assert_problem(response, 422, Some("curve.points")).await;
+
+    // An oversized body (the limit is 8 MiB).
+    let big = format!(
+        "{{\"curve\": {{\"csv\": \"{}\"}}}}",
+        "0,0,0\\n".repeat(1_500_000)
+    );
+    assert_problem(
+        post_raw(&api, "/v1/jobs", json_type, big.into_bytes()).await,
+        413,
+        None,
+    )
+    .await;
+
+    // Nothing was queued by any of it.
+    let list: Value = api.get("/v1/jobs").await.json().await.unwrap();
+    assert!(list["jobs"].as_array().unwrap().is_empty());
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn bad_queries_headers_routes_and_quick_looks() {
+    let server = Server::start();
+    let api = server.api();
+    assert_problem(api.get("/v1/jobs?status=lost").await, 400, Some("status")).await;
+    assert_problem(api.get("/v1/jobs?limit=0").await, 400, Some("limit")).await;
+    assert_problem(api.get("/v1/jobs/no-such-job").await, 404, None).await;
+    assert_problem(api.get("/v1/nowhere").await, 404, None).await;
+    let wrong_method = api
+        .request(reqwest::Method::PUT, "/v1/jobs")
+        .send()
+        .await
+        .unwrap();
+    assert_problem(wrong_method, 405, None).await;
+    let id = api.submit(&quick_job(10)).await;
+    let response = api
+        .request(reqwest::Method::GET, &format!("/v1/jobs/{id}/events"))
+        .header("Last-Event-ID", "yesterday")
+        .send()
+        .await
+        .unwrap();
+    assert_problem(response, 400, Some("Last-Event-ID")).await;
+    let bad_key = api
+        .request(reqwest::Method::POST, "/v1/jobs")
+        .header("Idempotency-Key", "")
+        .json(&quick_job(10))
+        .send()
+        .await
+        .unwrap();
+    assert_problem(bad_key, 400, Some("Idempotency-Key")).await;
+
+    // A patch off the balloon, a NaN-free but impossible mesh, an unknown field.
+    let off = json!({"design": {"balloon": {"length_mm": 60},
+        "patches": [{"x_mm": 0, "y_mm": 500, "h_mm": 20, "w_mm": 2, "theta_deg": 0}]}});
+    assert_problem(
+        api.post("/v1/simulate", &off).await,
+        422,
+        Some("design.patches[0].y_mm"),
+    )
+    .await;
+    let coarse = json!({"design": {"patches": []}, "mesh_mm": 0.01});
+    assert_problem(
+        api.post("/v1/simulate", &coarse).await,
+        422,
+        Some("mesh_mm"),
+    )
+    .await;
+    let angle = json!({"design": {"patches": [{"x_mm": 0, "y_mm": 30, "h_mm": 20, "w_mm": 2, "theta_deg": 95}]}});
+    assert_problem(
+        api.post("/v1/simulate", &angle).await,
+        422,
+        Some("design.patches[0].theta_deg"),
+    )
+    .await;
+    let typo = json!({"design": {"patches": [], "presure_kpa": 20}});
+    assert_problem(
+        api.post("/v1/simulate", &typo).await,
+        422,
+        Some("design.presure_kpa"),
+    )
+    .await;
+    let ksa = json!({"curve": {"preset": "arc"}, "kappa_tol": -1});
+    assert_problem(api.post("/v1/ksa", &ksa).await, 422, Some("kappa_tol")).await;
+
+    // The server is fine afterwards.
+    let done = api
+        .wait_for(
+            &id,
+            &["succeeded", "failed"],
+            std::time::Duration::from_secs(60),
+        )
+        .await;
+    assert_eq!(done["status"], "succeeded");
+}

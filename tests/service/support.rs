@@ -1,0 +1,335 @@
+//! A real `patchwork serve` process on port 0 with a fresh SQLite file, an HTTP
+//! client, a server-sent-events reader and validation against openapi.yaml.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+use futures_util::StreamExt;
+use serde_json::{Value, json};
+
+pub struct Server {
+    child: Child,
+    pub base: String,
+    _dir: Option<tempfile::TempDir>,
+}
+
+/// A client of a server, with or without an API key.
+pub struct Api {
+    pub base: String,
+    pub client: reqwest::Client,
+    key: Option<String>,
+}
+
+#[derive(Default, Clone)]
+pub struct Options {
+    pub keys: Option<&'static str>,
+    pub workers: Option<usize>,
+    pub queue_capacity: Option<usize>,
+    /// Reuse this database (restart tests).
+    pub db: Option<PathBuf>,
+}
+
+impl Server {
+    pub fn start() -> Server {
+        Server::with(Options::default())
+    }
+
+    pub fn with(options: Options) -> Server {
+        let (dir, db) = match &options.db {
+            Some(db) => (None, db.clone()),
+            None => {
+                let dir = tempfile::tempdir().unwrap();
+                let db = dir.path().join("patchwork.db");
+                (Some(dir), db)
+            }
+        };
+        let log = db.with_extension(format!("{}.log", std::process::id()));
+        let mut command = Command::new(env!("CARGO_BIN_EXE_patchwork"));
+        command
+            .args(["serve", "--addr", "127.0.0.1:0", "--db"])
+            .arg(&db)
+            .args(["--workers", &options.workers.unwrap_or(2).to_string()])
+            .env("PATCHWORK_API_KEYS", options.keys.unwrap_or(""))
+            .env("RUST_LOG", "info")
+            .stdout(Stdio::piped())
+            .stderr(
+                std::fs::OpenOptions::new()
+                    .create(true)
+                    .append(true)
+                    .open(&log)
+                    .unwrap(),
+            );
+        if let Some(n) = options.queue_capacity {
+            command.args(["--queue-capacity", &n.to_string()]);
+        }
+        let mut child = command.spawn().expect("patchwork serve starts");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let base = line
+            .trim()
+            .strip_prefix("listening on ")
+            .unwrap_or_else(|| panic!("unexpected first line {line:?}; log in {}", log.display()))
+            .to_string();
+        Server {
+            child,
+            base,
+            _dir: dir,
+        }
+    }
+
+    /// A client without an API key.
+    pub fn api(&self) -> Api {
+        Api {
+            base: self.base.clone(),
+            client: reqwest::Client::new(),
+            key: None,
+        }
+    }
+
+    /// A client sending `Authorization: Bearer <key>`.
+    pub fn as_key(&self, key: &str) -> Api {
+        Api {
+            key: Some(key.to_string()),
+            ..self.api()
+        }
+    }
+
+    /// Sends SIGKILL: no shutdown, no checkpoint beyond the last one.
+    pub fn kill_hard(&mut self) {
+        self.child.kill().unwrap();
+        self.child.wait().unwrap();
+    }
+
+    /// Sends SIGTERM and waits for the process to exit.
+    pub fn terminate(&mut self) -> std::process::ExitStatus {
+        Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status()
+            .unwrap();
+        self.child.wait().unwrap()
+    }
+}
+
+impl Api {
+    pub fn url(&self, path: &str) -> String {
+        format!("{}{}", self.base, path)
+    }
+
+    pub fn request(&self, method: reqwest::Method, path: &str) -> reqwest::RequestBuilder {
+        let builder = self.client.request(method, self.url(path));
+        match &self.key {
+            Some(key) => builder.bearer_auth(key),
+            None => builder,
+        }
+    }
+
+    pub async fn get(&self, path: &str) -> reqwest::Response {
+        self.request(reqwest::Method::GET, path)
+            .send()
+            .await
+            .unwrap()
+    }
+
+    pub async fn post(&self, path: &str, body: &Value) -> reqwest::Response {
+        self.request(reqwest::Method::POST, path)
+            .json(body)
+            .send()
+            .await
+            .unwrap()
+    }
+
+    /// Submits a job; returns its id.
+    pub async fn submit(&self, body: &Value) -> String {
+        let response = self.post("/v1/jobs", body).await;
+        assert_eq!(response.status(), 202, "{:?}", response.text().await);
+        let job: Value = response.json().await.unwrap();
+        job["id"].as_str().unwrap().to_string()
+    }
+
+    pub async fn job(&self, id: &str) -> Value {
+        self.get(&format!("/v1/jobs/{id}"))
+            .await
+            .json()
+            .await
+            .unwrap()
+    }
+
+    /// Polls until the job's status is one of `states`.
+    pub async fn wait_for(&self, id: &str, states: &[&str], limit: Duration) -> Value {
+        let started = Instant::now();
+        loop {
+            let job = self.job(id).await;
+            if states.contains(&job["status"].as_str().unwrap_or("")) {
+                return job;
+            }
+            assert!(started.elapsed() < limit, "job stuck: {job}");
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// A job that finishes in about a second: one patch on a 90° arc, draft
+/// fidelity, a small budget.
+pub fn quick_job(budget: usize) -> Value {
+    json!({
+        "curve": {"preset": "arc", "params": {"radius_mm": 40, "angle_deg": 90}},
+        "options": {"budget": budget, "seed": 3, "fidelity": "draft"}
+    })
+}
+
+/// A job that runs for about 20 ms per evaluation (a part-turn helix).
+pub fn long_job(budget: usize) -> Value {
+    json!({
+        "curve": {"preset": "helix", "params": {"radius_mm": 15, "pitch_mm": 40, "turns": 0.6}},
+        "options": {"budget": budget, "seed": 5, "fidelity": "draft"}
+    })
+}
+
+#[derive(Debug, Clone)]
+pub struct SseEvent {
+    pub id: u64,
+    pub kind: String,
+    pub data: Value,
+}
+
+/// Reads a job's event stream until it ends, or until `stop` says so.
+pub async fn read_events(
+    server: &Api,
+    id: &str,
+    last_event_id: Option<u64>,
+    stop: impl Fn(&SseEvent) -> bool,
+) -> Vec<SseEvent> {
+    let mut request = server.request(reqwest::Method::GET, &format!("/v1/jobs/{id}/events"));
+    if let Some(last) = last_event_id {
+        request = request.header("Last-Event-ID", last.to_string());
+    }
+    let response = request.send().await.unwrap();
+    assert_eq!(response.status(), 200);
+    assert!(
+        response.headers()["content-type"]
+            .to_str()
+            .unwrap()
+            .starts_with("text/event-stream")
+    );
+    let mut stream = response.bytes_stream();
+    let mut buffer = String::new();
+    let mut events = Vec::new();
+    let read = async {
+        while let Some(chunk) = stream.next().await {
+            buffer.push_str(&String::from_utf8_lossy(&chunk.unwrap()));
+            while let Some(end) = buffer.find("\n\n") {
+                let block: String = buffer.drain(..end + 2).collect();
+                if let Some(event) = parse_block(&block) {
+                    let done = stop(&event);
+                    events.push(event);
+                    if done {
+                        return;
+                    }
+                }
+            }
+        }
+    };
+    tokio::time::timeout(Duration::from_secs(120), read)
+        .await
+        .expect("event stream ended in time");
+    events
+}
+
+fn parse_block(block: &str) -> Option<SseEvent> {
+    let (mut id, mut kind, mut data) = (None, None, String::new());
+    for line in block.lines() {
+        if let Some(v) = line.strip_prefix("id:") {
+            id = v.trim().parse().ok();
+        } else if let Some(v) = line.strip_prefix("event:") {
+            kind = Some(v.trim().to_string());
+        } else if let Some(v) = line.strip_prefix("data:") {
+            data.push_str(v.trim());
+        }
+    }
+    Some(SseEvent {
+        id: id?,
+        kind: kind?,
+        data: serde_json::from_str(&data).ok()?,
+    })
+}
+
+/// openapi.yaml as JSON.
+fn spec() -> &'static Value {
+    static SPEC: OnceLock<Value> = OnceLock::new();
+    SPEC.get_or_init(|| {
+        let text =
+            std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("openapi.yaml"))
+                .unwrap();
+        serde_norway::from_str(&text).unwrap()
+    })
+}
+
+/// Asserts `value` is valid against `#/components/schemas/{schema}`.
+pub fn assert_schema(schema: &str, value: &Value) {
+    let root = json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "$ref": format!("#/components/schemas/{schema}"),
+        "components": spec()["components"],
+    });
+    let validator = jsonschema::validator_for(&root).expect("the spec's schemas compile");
+    let errors: Vec<String> = validator
+        .iter_errors(value)
+        .map(|e| format!("{} at {}", e, e.instance_path()))
+        .collect();
+    assert!(errors.is_empty(), "{schema}: {errors:?}\n{value}");
+}
+
+/// Asserts a problem+json response with `status`, naming `field` when given.
+pub async fn assert_problem(
+    response: reqwest::Response,
+    status: u16,
+    field: Option<&str>,
+) -> Value {
+    assert_eq!(response.status().as_u16(), status);
+    assert_eq!(
+        response.headers()["content-type"],
+        "application/problem+json"
+    );
+    let problem: Value = response.json().await.unwrap();
+    assert_schema("Problem", &problem);
+    assert_eq!(problem["status"], status);
+    if let Some(field) = field {
+        assert_eq!(problem["field"], field, "{problem}");
+    }
+    problem
+}
+
+/// ezdxf (installed by .ci/run) reads and audits a DXF: its error count.
+pub fn ezdxf_errors(bytes: &[u8]) -> usize {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("file.dxf");
+    std::fs::write(&path, bytes).unwrap();
+    let script =
+        "import sys, ezdxf\ndoc = ezdxf.readfile(sys.argv[1])\nprint(len(doc.audit().errors))";
+    let output = Command::new("python3")
+        .args(["-c", script])
+        .arg(&path)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        output.status.success(),
+        "ezdxf failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8_lossy(&output.stdout)
+        .trim()
+        .parse()
+        .unwrap()
+}
