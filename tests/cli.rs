@@ -463,6 +463,10 @@ fn design_rejects_bad_options_in_one_line() {
         "--mesh-mm",
     );
     assert_one_line_error(
+        &patchwork(&["design", hilbert, "--out", "/tmp/x", "--fidelity", "ultra"]),
+        "--fidelity",
+    );
+    assert_one_line_error(
         &patchwork_with_stdin(
             &["design", hilbert, "--out", "/tmp/x", "--options", "-"],
             r#"{"pressure_kpa": -1}"#,

@@ -1,4 +1,5 @@
-//! `patchwork design CURVE --out DIR [--seed S] [--budget EVALS] [--threads N] [--json]`.
+//! `patchwork design CURVE --out DIR [--seed S] [--budget EVALS] [--threads N] [--json]
+//! [--fidelity draft|standard|fine]`.
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -9,7 +10,7 @@ use clap::Args;
 use patchwork_core::design::Design;
 use patchwork_core::fabrication::design_files;
 use patchwork_core::fe::mesh::MeshSpec;
-use patchwork_core::inverse::{DesignReport, DesignRequest, Stage, design};
+use patchwork_core::inverse::{DesignReport, DesignRequest, Fidelity, Stage, design};
 
 use super::input::{CurveInput, read_text_argument};
 use super::output::{emit, emit_json, patch_table};
@@ -26,9 +27,10 @@ pub struct DesignArgs {
     /// Random seed: the same seed reproduces the same design.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Forward simulations the search may spend.
-    #[arg(long, default_value_t = 600)]
-    budget: usize,
+    /// Forward simulations the search may spend (default: the fidelity's,
+    /// 200/600/1200 for draft/standard/fine).
+    #[arg(long)]
+    budget: Option<usize>,
     /// Threads evaluating a generation in parallel.
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
     threads: usize,
@@ -43,9 +45,14 @@ pub struct DesignArgs {
     /// inflated balloon is as long as the curve (the mismatch is reported).
     #[arg(long)]
     fix_length: bool,
-    /// Element size of the search model (mm); verification uses half of it.
-    #[arg(long, default_value_t = 2.0)]
-    mesh_mm: f64,
+    /// Model fidelity: draft (search on 3 mm elements, verify on 2 mm),
+    /// standard (2/1 mm) or fine (1/0.5 mm).
+    #[arg(long, default_value = "standard")]
+    fidelity: Fidelity,
+    /// Element size of the search model (mm), overriding the fidelity's;
+    /// verification then uses half of it.
+    #[arg(long)]
+    mesh_mm: Option<f64>,
 }
 
 pub fn run(args: DesignArgs) -> Result<()> {
@@ -63,22 +70,26 @@ pub fn run(args: DesignArgs) -> Result<()> {
         }
         None => Design::reference(vec![]),
     };
-    anyhow::ensure!(args.budget >= 1, "--budget must be at least 1");
+    let budget = args.budget.unwrap_or(args.fidelity.budget());
+    anyhow::ensure!(budget >= 1, "--budget must be at least 1");
     anyhow::ensure!(args.threads >= 1, "--threads must be at least 1");
-    anyhow::ensure!(
-        args.mesh_mm.is_finite() && args.mesh_mm > 0.0,
-        "--mesh-mm must be a positive number"
-    );
-    let request = DesignRequest {
+    let mut request = DesignRequest {
         base,
         fix_length: args.fix_length,
-        budget: args.budget,
+        budget,
         seed: args.seed,
         threads: args.threads,
-        search_mesh: MeshSpec::uniform(args.mesh_mm),
-        verify_mesh: MeshSpec::uniform(args.mesh_mm / 2.0),
         ..DesignRequest::default()
     };
+    args.fidelity.apply(&mut request);
+    if let Some(mesh_mm) = args.mesh_mm {
+        anyhow::ensure!(
+            mesh_mm.is_finite() && mesh_mm > 0.0,
+            "--mesh-mm must be a positive number"
+        );
+        request.search_mesh = MeshSpec::uniform(mesh_mm);
+        request.verify_mesh = MeshSpec::uniform(mesh_mm / 2.0);
+    }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let terminal = std::io::stderr().is_terminal();
@@ -92,7 +103,7 @@ pub fn run(args: DesignArgs) -> Result<()> {
             };
             eprint!(
                 "\r{stage} generation {:>4}  evaluations {:>5}/{}  best {:>9.5}  σ {:.3}  {:>6.1} s ",
-                p.generation, p.evaluations, args.budget, p.best_objective, p.sigma, p.elapsed_s
+                p.generation, p.evaluations, budget, p.best_objective, p.sigma, p.elapsed_s
             );
         }
     })?;
