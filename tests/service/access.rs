@@ -61,3 +61,33 @@ async fn each_key_sees_only_its_own_jobs() {
         .await;
     assert_eq!(job["status"], "succeeded");
 }
+
+#[tokio::test(flavor = "multi_thread")]
+async fn keys_and_cors_origins_from_the_config_file() {
+    let server = Server::with(Options {
+        config: Some("api_keys = [\"from-file\"]\ncors_origins = [\"https://lab.example\"]\n"),
+        ..Options::default()
+    });
+    assert_problem(server.api().get("/v1/presets").await, 401, None).await;
+    let keyed = server.as_key("from-file");
+    assert_eq!(keyed.get("/v1/presets").await.status(), 200);
+    // A browser's preflight from the lab's origin is allowed; another origin is not.
+    let preflight = |origin: &'static str| {
+        keyed
+            .request(reqwest::Method::OPTIONS, "/v1/jobs")
+            .header("Origin", origin)
+            .header("Access-Control-Request-Method", "POST")
+            .header(
+                "Access-Control-Request-Headers",
+                "authorization, content-type",
+            )
+            .send()
+    };
+    let allowed = preflight("https://lab.example").await.unwrap();
+    assert_eq!(
+        allowed.headers()["access-control-allow-origin"],
+        "https://lab.example"
+    );
+    let other = preflight("https://elsewhere.example").await.unwrap();
+    assert!(!other.headers().contains_key("access-control-allow-origin"));
+}

@@ -321,3 +321,26 @@ async fn quick_looks_and_operations_routes() {
         assert!(metrics.contains(name), "{name} missing from\n{metrics}");
     }
 }
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_job_over_its_time_limit_fails_saying_so() {
+    let server = Server::with(Options {
+        job_time_limit_s: Some(1),
+        ..Options::default()
+    });
+    let api = server.api();
+    let id = api.submit(&long_job(5000)).await;
+    let events = read_events(&api, &id, None, |_| false).await;
+    let last = events.last().unwrap();
+    assert_eq!(last.kind, "failed");
+    assert!(
+        last.data["error"]
+            .as_str()
+            .unwrap()
+            .contains("time limit of 1 s")
+    );
+    let job = api.job(&id).await;
+    assert_schema("Job", &job);
+    assert_eq!(job["status"], "failed");
+    assert!(job["error"].as_str().unwrap().contains("time limit"));
+}

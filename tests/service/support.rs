@@ -30,6 +30,9 @@ pub struct Options {
     pub queue_capacity: Option<usize>,
     /// Reuse this database (restart tests).
     pub db: Option<PathBuf>,
+    /// Contents of a TOML config file passed with --config.
+    pub config: Option<&'static str>,
+    pub job_time_limit_s: Option<u64>,
 }
 
 impl Server {
@@ -64,6 +67,14 @@ impl Server {
             );
         if let Some(n) = options.queue_capacity {
             command.args(["--queue-capacity", &n.to_string()]);
+        }
+        if let Some(n) = options.job_time_limit_s {
+            command.args(["--job-time-limit-s", &n.to_string()]);
+        }
+        if let Some(text) = options.config {
+            let path = db.with_extension("toml");
+            std::fs::write(&path, text).unwrap();
+            command.arg("--config").arg(path);
         }
         let mut child = command.spawn().expect("patchwork serve starts");
         let mut line = String::new();
