@@ -411,9 +411,10 @@ fn seeded_balloon(
         target_length / state.axial
     };
     let mut seed_patches = seed(target, &base, length, request)?;
-    if !request.fix_length && !seed_patches.is_empty() {
-        // Patches stretch less than bare wall: correct the length once from a
-        // simulation of the seed, scaling patch positions and lengths with it.
+    if !request.fix_length {
+        // Patches stretch less than bare wall, and the mesh is not the membrane
+        // theory: correct the length once from a simulation of the seed (even
+        // with no patches), scaling patch positions and lengths with it.
         // The length to cut comes from the most accurate model of the run (the
         // verification mesh): the coarse search mesh's polygonal section
         // understates the axial stretch by several percent.

@@ -1,0 +1,373 @@
+//! Numerical stress suite (issue 6): abusive designs and target curves. Every
+//! case must end in a converged result with finite numbers or a typed,
+//! explained error — never a panic, a NaN or a hang (every solve runs under an
+//! iteration and a time cap). The suite prints each case and the counts.
+//!
+//! `PATCHWORK_STRESS_LONG=1` adds 500 random designs far outside the reference
+//! bounds (several minutes).
+
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+
+use patchwork_core::cmaes::SeededRng;
+use patchwork_core::curve::{Curve, Point, Preset};
+use patchwork_core::design::{Balloon, Design, Patch};
+use patchwork_core::fe::newton::NewtonOptions;
+use patchwork_core::fe::{SimulateOptions, simulate};
+use patchwork_core::inverse::{DesignRequest, Fidelity, design};
+use patchwork_core::material::Material;
+
+/// Newton's time cap per solve; a case may take a few solves (continuation).
+const SOLVE_CAP: Duration = Duration::from_secs(20);
+
+fn options() -> SimulateOptions {
+    SimulateOptions {
+        newton: NewtonOptions {
+            time_limit: SOLVE_CAP,
+            ..NewtonOptions::default()
+        },
+        ..SimulateOptions::default()
+    }
+}
+
+fn patch(x: f64, y: f64, h: f64, w: f64, theta: f64) -> Patch {
+    Patch {
+        x_mm: x,
+        y_mm: y,
+        h_mm: h,
+        w_mm: w,
+        theta_deg: theta,
+    }
+}
+
+fn with_patches(patches: Vec<Patch>) -> Design {
+    Design::reference(patches)
+}
+
+fn short(length_mm: f64, patches: Vec<Patch>) -> Design {
+    Design {
+        balloon: Balloon {
+            length_mm,
+            ..Balloon::default()
+        },
+        ..Design::reference(patches)
+    }
+}
+
+#[derive(Default)]
+struct Tally {
+    converged: usize,
+    typed_failures: usize,
+    lines: Vec<String>,
+}
+
+impl Tally {
+    /// Runs one forward case: converged with finite numbers, or a typed error.
+    fn simulate(&mut self, name: &str, design: &Design) {
+        let started = Instant::now();
+        let outcome = simulate(design, &options());
+        let elapsed = started.elapsed();
+        assert!(elapsed < SOLVE_CAP * 8, "{name}: {elapsed:?} (hang?)");
+        match outcome {
+            Ok(sim) => {
+                let finite = sim
+                    .positions
+                    .iter()
+                    .all(|p| p.iter().all(|v| v.is_finite()))
+                    && sim
+                        .curvature
+                        .iter()
+                        .chain(&sim.torsion)
+                        .all(|v| v.is_finite())
+                    && sim.inflated_length_mm.is_finite();
+                assert!(finite, "{name}: converged with a non-finite number");
+                self.converged += 1;
+                self.lines.push(format!(
+                    "{name:<44} converged  {:>3} its {:>7.0} ms  length {:.1} mm{}",
+                    sim.stats.iterations,
+                    elapsed.as_secs_f64() * 1e3,
+                    sim.inflated_length_mm,
+                    if sim.stats.stable {
+                        ""
+                    } else {
+                        "  (not stable)"
+                    }
+                ));
+            }
+            Err(e) => {
+                let message = e.to_string();
+                assert!(!message.is_empty());
+                self.typed_failures += 1;
+                self.lines.push(format!(
+                    "{name:<44} typed error ({:.0} ms): {message}",
+                    elapsed.as_secs_f64() * 1e3
+                ));
+            }
+        }
+    }
+
+    /// Runs the design pipeline on a target at draft fidelity with a tiny budget.
+    fn design(&mut self, name: &str, target: Result<Curve, impl std::fmt::Display>) {
+        let target = match target {
+            Ok(curve) => curve,
+            Err(e) => {
+                self.typed_failures += 1;
+                self.lines
+                    .push(format!("{name:<44} typed error (curve): {e}"));
+                return;
+            }
+        };
+        let mut request = DesignRequest {
+            budget: 3,
+            threads: 1,
+            ..DesignRequest::default()
+        };
+        Fidelity::Draft.apply(&mut request);
+        let started = Instant::now();
+        let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {});
+        let elapsed = started.elapsed().as_secs_f64();
+        match outcome {
+            Ok(o) => {
+                let m = o.metrics;
+                assert!(
+                    o.simulation
+                        .centreline
+                        .points()
+                        .iter()
+                        .all(|p| p.iter().all(|v| v.is_finite())),
+                    "{name}: NaN in the result"
+                );
+                assert!(o.design.validate().is_ok(), "{name}: the design is invalid");
+                self.converged += 1;
+                self.lines.push(format!(
+                    "{name:<44} designed   {} patches, shape error {:.1} %, {elapsed:.1} s",
+                    o.design.patches.len(),
+                    m.shape_error_percent
+                ));
+            }
+            Err(e) => {
+                self.typed_failures += 1;
+                self.lines
+                    .push(format!("{name:<44} typed error ({elapsed:.1} s): {e}"));
+            }
+        }
+    }
+
+    fn report(&self, suite: &str) {
+        println!("\n{suite}:");
+        for line in &self.lines {
+            println!("  {line}");
+        }
+        println!(
+            "  {} cases: {} converged, {} typed failures, 0 panics, 0 NaN",
+            self.lines.len(),
+            self.converged,
+            self.typed_failures
+        );
+    }
+}
+
+#[test]
+fn abusive_designs_converge_or_fail_with_a_typed_error() {
+    let mut t = Tally::default();
+    let mid = patch(0.0, 146.0, 20.0, 2.0, 0.0);
+    for (factor, name) in [
+        (1000.0, "patch stiffness ×1000"),
+        (0.01, "patch stiffness ×0.01"),
+    ] {
+        let mut d = with_patches(vec![mid]);
+        d.patch.material = Material::NeoHookean {
+            mu_mpa: 1.3 * factor,
+        };
+        t.simulate(name, &d);
+    }
+    t.simulate(
+        "width 0.1 mm",
+        &with_patches(vec![patch(0.0, 146.0, 20.0, 0.1, 0.0)]),
+    );
+    t.simulate(
+        "width 20 mm (whole circumference)",
+        &with_patches(vec![patch(0.0, 146.0, 20.0, 20.0, 0.0)]),
+    );
+    t.simulate(
+        "Θ = +89°",
+        &with_patches(vec![patch(0.0, 146.0, 20.0, 2.0, 89.0)]),
+    );
+    t.simulate(
+        "Θ = −89°",
+        &with_patches(vec![patch(0.0, 146.0, 20.0, 2.0, -89.0)]),
+    );
+    t.simulate(
+        "three overlapping patches",
+        &with_patches(vec![
+            patch(0.0, 140.0, 20.0, 2.0, 0.0),
+            patch(0.5, 146.0, 20.0, 2.0, 30.0),
+            patch(1.0, 150.0, 20.0, 2.0, -30.0),
+        ]),
+    );
+    t.simulate(
+        "patch across the seam",
+        &with_patches(vec![patch(19.5, 146.0, 20.0, 3.0, 20.0)]),
+    );
+    t.simulate(
+        "patch hanging off the base",
+        &with_patches(vec![patch(0.0, 2.0, 20.0, 2.0, 0.0)]),
+    );
+    t.simulate(
+        "patch hanging off the far end",
+        &with_patches(vec![patch(0.0, 290.0, 20.0, 2.0, 0.0)]),
+    );
+    t.simulate(
+        "patch wholly off the balloon",
+        &with_patches(vec![patch(0.0, 400.0, 20.0, 2.0, 0.0)]),
+    );
+    t.simulate(
+        "negative width",
+        &with_patches(vec![patch(0.0, 146.0, 20.0, -2.0, 0.0)]),
+    );
+
+    // The neo-Hookean tube's pressure maximum: p R0 / (μ t0) = 0.749868.
+    let (mu, r0, t0) = (0.317, 3.18, 0.183);
+    let p_max_kpa = 0.749868 * mu * t0 / r0 * 1e3;
+    for (fraction, name) in [
+        (0.98, "pressure 2 % below the limit point"),
+        (1.0, "pressure at the limit point"),
+        (1.02, "pressure 2 % above the limit point"),
+    ] {
+        let mut d = with_patches(vec![mid]);
+        d.balloon.material = Material::NeoHookean { mu_mpa: mu };
+        d.pressure_kpa = p_max_kpa * fraction;
+        t.simulate(name, &d);
+    }
+    let mut d = with_patches(vec![mid]);
+    d.pressure_kpa = 500.0;
+    t.simulate("very high pressure (500 kPa)", &d);
+
+    let mut rng = SeededRng::new(6);
+    let long: Vec<Patch> = (0..30)
+        .map(|i| {
+            patch(
+                20.0 * rng.uniform(),
+                16.0 + 32.0 * i as f64,
+                15.0,
+                2.0,
+                60.0 * rng.uniform() - 30.0,
+            )
+        })
+        .collect();
+    let mut d = short(1000.0, long);
+    d.pressure_kpa = 20.0;
+    t.simulate("1 m balloon with 30 patches", &d);
+    t.simulate(
+        "2 cm balloon",
+        &short(20.0, vec![patch(0.0, 10.0, 8.0, 2.0, 20.0)]),
+    );
+    t.report("abusive designs");
+    assert_eq!(t.converged + t.typed_failures, t.lines.len());
+}
+
+fn curve(points: Vec<Point>) -> Result<Curve, patchwork_core::CurveError> {
+    Curve::from_points(points)
+}
+
+#[test]
+fn abusive_target_curves_design_or_fail_with_a_typed_error() {
+    let mut t = Tally::default();
+    t.design(
+        "straight",
+        Preset::from_name("line", serde_json::json!({"length_mm": 300}))
+            .unwrap()
+            .curve(None),
+    );
+    t.design(
+        "planar with inflections (sine)",
+        curve(
+            (0..400)
+                .map(|i| {
+                    let x = i as f64 * 0.75;
+                    Point::new(x, 30.0 * (x / 30.0).sin(), 0.0)
+                })
+                .collect(),
+        ),
+    );
+    t.design(
+        "cusp (astroid arc)",
+        curve(
+            (0..400)
+                .map(|i| {
+                    let s = 0.2 + (std::f64::consts::PI - 0.4) * i as f64 / 399.0;
+                    Point::new(80.0 * s.cos().powi(3), 80.0 * s.sin().powi(3), 0.0)
+                })
+                .collect(),
+        ),
+    );
+    let mut rng = SeededRng::new(11);
+    t.design(
+        "helix with 1 % noise",
+        Preset::helix(20.0, 60.0, 1.5)
+            .curve(None)
+            .map(|c| {
+                let scale = 0.01 * c.length() / 10.0;
+                Curve::from_points(
+                    c.points()
+                        .iter()
+                        .map(|p| p + Point::new(rng.normal(), rng.normal(), rng.normal()) * scale)
+                        .collect(),
+                )
+            })
+            .and_then(|c| c),
+    );
+    t.design(
+        "self-intersecting (lemniscate)",
+        curve(
+            (0..400)
+                .map(|i| {
+                    let s = std::f64::consts::TAU * i as f64 / 400.0;
+                    Point::new(60.0 * s.sin(), 60.0 * s.sin() * s.cos(), 0.0)
+                })
+                .collect(),
+        ),
+    );
+    t.design(
+        "extremely tight (helix radius 2 mm)",
+        Preset::helix(2.0, 8.0, 3.0).curve(None),
+    );
+    t.design(
+        "very long (helix, about 2 m)",
+        Preset::helix(50.0, 100.0, 6.0).curve(Some(2000)),
+    );
+    t.design(
+        "two points only",
+        curve(vec![Point::new(0.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0)]),
+    );
+    t.report("abusive target curves");
+    assert_eq!(t.converged + t.typed_failures, t.lines.len());
+}
+
+#[test]
+fn long_run_of_random_designs_far_outside_the_bounds() {
+    if std::env::var_os("PATCHWORK_STRESS_LONG").is_none() {
+        println!("skipped: set PATCHWORK_STRESS_LONG=1 for 500 random abusive designs");
+        return;
+    }
+    let mut t = Tally::default();
+    let mut rng = SeededRng::new(424242);
+    for i in 0..500 {
+        let n = 1 + (rng.uniform() * 8.0) as usize;
+        let patches = (0..n)
+            .map(|_| {
+                patch(
+                    40.0 * rng.uniform() - 10.0,
+                    320.0 * rng.uniform() - 14.0,
+                    1.0 + 60.0 * rng.uniform(),
+                    0.1 + 10.0 * rng.uniform(),
+                    178.0 * rng.uniform() - 89.0,
+                )
+            })
+            .collect();
+        let mut d = with_patches(patches);
+        d.pressure_kpa = 1.0 + 60.0 * rng.uniform();
+        t.simulate(&format!("random design {i}"), &d);
+    }
+    t.report("random abusive designs");
+}
