@@ -466,6 +466,7 @@ fn design_rejects_bad_options_in_one_line() {
         &patchwork(&["design", hilbert, "--out", "/tmp/x", "--fidelity", "ultra"]),
         "--fidelity",
     );
+    assert_one_line_error(&patchwork(&["bench", "--quick", "--runs", "0"]), "--runs");
     assert_one_line_error(
         &patchwork_with_stdin(
             &["design", hilbert, "--out", "/tmp/x", "--options", "-"],

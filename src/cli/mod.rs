@@ -1,5 +1,6 @@
 //! Command-line contract. Scripts depend on these names: change with care.
 
+mod bench_cmd;
 mod curve_cmd;
 mod design_cmd;
 mod input;
@@ -37,6 +38,8 @@ enum Command {
     /// Inverse design: patches for a target curve, with cut files (work in
     /// progress: slow on long multi-patch curves).
     Design(design_cmd::DesignArgs),
+    /// Run time against error: a fixed suite of curves × fidelity settings.
+    Bench(bench_cmd::BenchArgs),
     /// HTTP design service: REST API, SQLite job store, worker pool.
     Serve(crate::service::ServeArgs),
 }
@@ -53,6 +56,7 @@ pub fn run() -> Result<()> {
         Command::Simulate(args) => simulate_cmd::run(args),
         Command::Design(args) => design_cmd::run(args),
         Command::Serve(args) => crate::service::run(args),
+        Command::Bench(args) => bench_cmd::run(args),
     }
 }
 

@@ -44,6 +44,9 @@ pub struct DesignRequest {
     pub kappa_tol: f64,
     pub merge_mm: f64,
     pub width_mm: f64,
+    /// Start each search solve from the best design's inflated state (on by
+    /// default; off only to measure what it saves).
+    pub warm_starts: bool,
 }
 
 impl Default for DesignRequest {
@@ -63,6 +66,7 @@ impl Default for DesignRequest {
             kappa_tol: 0.01,
             merge_mm: 20.0,
             width_mm: 1.5,
+            warm_starts: true,
         }
     }
 }
@@ -295,7 +299,11 @@ pub fn design_resumable(
                 patches: space.patches(u),
                 ..base.clone()
             };
-            let start = warm.lock().ok().and_then(|w| w.clone());
+            let start = if request.warm_starts {
+                warm.lock().ok().and_then(|w| w.clone())
+            } else {
+                None
+            };
             let (f, sim) = evaluate(&candidate, start.as_deref());
             if let (Some(sim), Ok(mut best)) = (sim, incumbent.lock())
                 && f < best.0

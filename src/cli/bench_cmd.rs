@@ -1,0 +1,341 @@
+//! `patchwork bench [--quick] [--out DIR] [--runs N]`: run time against error.
+//! A fixed suite of target curves × fidelity settings, each run with seeds
+//! 1..=N; writes `bench.md` (medians: wall time, evaluations, shape error, DTW
+//! κ and τ) and `bench.svg` (shape error against time, Pareto front per curve).
+
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use patchwork_core::cmaes::SeededRng;
+use patchwork_core::curve::{Curve, Point, Preset};
+use patchwork_core::inverse::{DesignRequest, Fidelity, design};
+
+use super::output::emit;
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// The small suite (two short curves, draft and standard, small budgets):
+    /// minutes instead of hours.
+    #[arg(long)]
+    quick: bool,
+    /// Folder for bench.md and bench.svg.
+    #[arg(long, default_value = "bench-out")]
+    out: PathBuf,
+    /// Runs per case (seeds 1..=N); the table shows medians.
+    #[arg(long, default_value_t = 3)]
+    runs: usize,
+    /// Threads evaluating a generation.
+    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+    threads: usize,
+}
+
+/// One fidelity setting of the suite.
+struct Setting {
+    name: &'static str,
+    fidelity: Fidelity,
+    budget: usize,
+    warm_starts: bool,
+}
+
+struct Row {
+    curve: String,
+    setting: &'static str,
+    wall_s: f64,
+    evaluations: f64,
+    shape_error_percent: f64,
+    dtw_curvature: f64,
+    dtw_torsion: f64,
+    failures: usize,
+}
+
+fn suite(quick: bool) -> Result<(Vec<(String, Curve)>, Vec<Setting>)> {
+    let preset = |name: &str, params: serde_json::Value| -> Result<Curve> {
+        Ok(Preset::from_name(name, params)
+            .map_err(anyhow::Error::msg)?
+            .curve(None)?)
+    };
+    let setting = |name, fidelity, budget, warm_starts| Setting {
+        name,
+        fidelity,
+        budget,
+        warm_starts,
+    };
+    if quick {
+        let curves = vec![
+            (
+                "part-turn helix (61 mm)".to_string(),
+                preset(
+                    "helix",
+                    serde_json::json!({"radius_mm": 15, "pitch_mm": 40, "turns": 0.6}),
+                )?,
+            ),
+            (
+                "arc 90° (63 mm)".to_string(),
+                preset("arc", serde_json::json!({"radius_mm": 40, "angle_deg": 90}))?,
+            ),
+        ];
+        let settings = vec![
+            setting("draft, budget 60", Fidelity::Draft, 60, true),
+            setting("draft, budget 60, cold starts", Fidelity::Draft, 60, false),
+            setting("standard, budget 60", Fidelity::Standard, 60, true),
+        ];
+        return Ok((curves, settings));
+    }
+    let reference = |name: &str| preset("reference", serde_json::json!({ "name": name }));
+    let mut curves = vec![
+        ("Hilbert (reference)".to_string(), reference("hilbert")?),
+        ("pancake (reference)".to_string(), reference("pancake")?),
+        ("spring (reference)".to_string(), reference("spring")?),
+        (
+            "helix r20 p60 ×2".to_string(),
+            preset(
+                "helix",
+                serde_json::json!({"radius_mm": 20, "pitch_mm": 60, "turns": 2}),
+            )?,
+        ),
+        (
+            "trefoil knot".to_string(),
+            preset("trefoil", serde_json::json!({"scale_mm": 30}))?,
+        ),
+    ];
+    curves.push((
+        "hand-drawn-style arc (1 % noise, smoothed)".to_string(),
+        noisy_arc()?,
+    ));
+    let settings = vec![
+        setting("draft", Fidelity::Draft, Fidelity::Draft.budget(), true),
+        setting(
+            "standard",
+            Fidelity::Standard,
+            Fidelity::Standard.budget(),
+            true,
+        ),
+        setting(
+            "standard, cold starts",
+            Fidelity::Standard,
+            Fidelity::Standard.budget(),
+            false,
+        ),
+        setting("fine", Fidelity::Fine, Fidelity::Fine.budget(), true),
+    ];
+    Ok((curves, settings))
+}
+
+/// A 150 mm arc with 1 % (of length) seeded noise, smoothed as a user would.
+fn noisy_arc() -> Result<Curve> {
+    let arc = Preset::from_name(
+        "arc",
+        serde_json::json!({"radius_mm": 60, "angle_deg": 140}),
+    )
+    .map_err(anyhow::Error::msg)?
+    .curve(Some(300))?;
+    let mut rng = SeededRng::new(7);
+    let scale = 0.01 * arc.length();
+    let noisy: Vec<Point> = arc
+        .points()
+        .iter()
+        .map(|p| p + Point::new(rng.normal(), rng.normal(), rng.normal()) * scale)
+        .collect();
+    Ok(Curve::from_points(noisy)?.smoothed(10.0 * arc.length() / 300.0)?)
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    match values.len() {
+        0 => f64::NAN,
+        n => values[n / 2],
+    }
+}
+
+pub fn run(args: BenchArgs) -> Result<()> {
+    anyhow::ensure!(args.runs >= 1, "--runs must be at least 1");
+    anyhow::ensure!(args.threads >= 1, "--threads must be at least 1");
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    let (curves, settings) = suite(args.quick)?;
+    let mut rows = Vec::new();
+    for (curve_name, target) in &curves {
+        for setting in &settings {
+            let mut samples = Vec::new();
+            let mut failures = 0;
+            for seed in 1..=args.runs as u64 {
+                let mut request = DesignRequest {
+                    budget: setting.budget,
+                    seed,
+                    threads: args.threads,
+                    warm_starts: setting.warm_starts,
+                    ..DesignRequest::default()
+                };
+                setting.fidelity.apply(&mut request);
+                let started = Instant::now();
+                match design(target, &request, &AtomicBool::new(false), &mut |_| {}) {
+                    Ok(o) => samples.push((
+                        started.elapsed().as_secs_f64(),
+                        o.evaluations as f64,
+                        o.metrics.shape_error_percent,
+                        o.metrics.dtw_curvature,
+                        o.metrics.dtw_torsion,
+                    )),
+                    Err(e) => {
+                        eprintln!("{curve_name}, {}, seed {seed}: {e}", setting.name);
+                        failures += 1;
+                    }
+                }
+            }
+            let column = |k: usize| {
+                median(
+                    samples
+                        .iter()
+                        .map(|s| [s.0, s.1, s.2, s.3, s.4][k])
+                        .collect(),
+                )
+            };
+            let row = Row {
+                curve: curve_name.clone(),
+                setting: setting.name,
+                wall_s: column(0),
+                evaluations: column(1),
+                shape_error_percent: column(2),
+                dtw_curvature: column(3),
+                dtw_torsion: column(4),
+                failures,
+            };
+            eprintln!(
+                "{:<40} {:<30} {:>8.2} s {:>6.0} evals {:>6.2} %",
+                row.curve, row.setting, row.wall_s, row.evaluations, row.shape_error_percent
+            );
+            rows.push(row);
+        }
+    }
+    let command = format!(
+        "patchwork bench{} --runs {} --threads {}",
+        if args.quick { " --quick" } else { "" },
+        args.runs,
+        args.threads
+    );
+    let table = table(&rows, &command);
+    std::fs::write(args.out.join("bench.md"), &table)?;
+    std::fs::write(args.out.join("bench.svg"), plot(&rows))?;
+    emit(&table)
+}
+
+fn table(rows: &[Row], command: &str) -> String {
+    let mut out = format!(
+        "`{command}` — medians over the runs\n\n\
+         | curve | setting | wall s | evaluations | shape error % | DTW κ | DTW τ | failed runs |\n\
+         |---|---|---|---|---|---|---|---|\n"
+    );
+    for r in rows {
+        out.push_str(&format!(
+            "| {} | {} | {:.2} | {:.0} | {:.2} | {:.3} | {:.3} | {} |\n",
+            r.curve,
+            r.setting,
+            r.wall_s,
+            r.evaluations,
+            r.shape_error_percent,
+            r.dtw_curvature,
+            r.dtw_torsion,
+            r.failures
+        ));
+    }
+    out
+}
+
+/// Shape error against wall time (log scale), a colour per curve, each curve's
+/// Pareto front (no other setting both faster and more accurate) joined.
+fn plot(rows: &[Row]) -> String {
+    const W: f64 = 720.0;
+    const H: f64 = 440.0;
+    const M: f64 = 60.0;
+    const COLOURS: [&str; 6] = [
+        "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
+    ];
+    let ok: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.wall_s.is_finite() && r.shape_error_percent.is_finite())
+        .collect();
+    let (t_lo, t_hi) = ok.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
+        (a.min(r.wall_s.max(1e-3)), b.max(r.wall_s))
+    });
+    let e_hi = ok.iter().fold(0.0f64, |a, r| a.max(r.shape_error_percent)) * 1.1 + 1e-9;
+    let (lx0, lx1) = (
+        t_lo.log10().floor(),
+        t_hi.log10().ceil().max(t_lo.log10().floor() + 1.0),
+    );
+    let x = |t: f64| M + (t.max(1e-3).log10() - lx0) / (lx1 - lx0) * (W - 2.0 * M);
+    let y = |e: f64| H - M - e / e_hi * (H - 2.0 * M);
+    let mut svg = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{W}\" height=\"{H}\" font-family=\"sans-serif\" font-size=\"12\">\n\
+         <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
+         <line x1=\"{M}\" y1=\"{b}\" x2=\"{r}\" y2=\"{b}\" stroke=\"black\"/>\n\
+         <line x1=\"{M}\" y1=\"{M}\" x2=\"{M}\" y2=\"{b}\" stroke=\"black\"/>\n\
+         <text x=\"{cx}\" y=\"{tb}\" text-anchor=\"middle\">wall time (s, log scale)</text>\n\
+         <text x=\"15\" y=\"{cy}\" transform=\"rotate(-90 15 {cy})\" text-anchor=\"middle\">shape error (% of length)</text>\n",
+        b = H - M,
+        r = W - M,
+        cx = W / 2.0,
+        tb = H - 15.0,
+        cy = H / 2.0
+    );
+    let mut decade = lx0;
+    while decade <= lx1 {
+        let t = 10f64.powf(decade);
+        svg.push_str(&format!(
+            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{t}</text>\n",
+            x(t),
+            H - M + 16.0
+        ));
+        decade += 1.0;
+    }
+    for k in 0..=4 {
+        let e = e_hi * k as f64 / 4.0;
+        svg.push_str(&format!(
+            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{e:.1}</text>\n",
+            M - 6.0,
+            y(e) + 4.0
+        ));
+    }
+    let mut curves: Vec<&str> = Vec::new();
+    for r in &ok {
+        if !curves.contains(&r.curve.as_str()) {
+            curves.push(&r.curve);
+        }
+    }
+    for (i, name) in curves.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        let mut points: Vec<&&Row> = ok.iter().filter(|r| r.curve == *name).collect();
+        points.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+        let mut front = Vec::new();
+        let mut best = f64::INFINITY;
+        for r in &points {
+            if r.shape_error_percent < best {
+                best = r.shape_error_percent;
+                front.push(format!(
+                    "{:.1},{:.1}",
+                    x(r.wall_s),
+                    y(r.shape_error_percent)
+                ));
+            }
+            svg.push_str(&format!(
+                "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"4\" fill=\"{colour}\"><title>{name}: {} — {:.2} s, {:.2} %</title></circle>\n",
+                x(r.wall_s),
+                y(r.shape_error_percent),
+                r.setting,
+                r.wall_s,
+                r.shape_error_percent
+            ));
+        }
+        svg.push_str(&format!(
+            "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"/>\n\
+             <text x=\"{:.1}\" y=\"{:.1}\" fill=\"{colour}\">{name}</text>\n",
+            front.join(" "),
+            W - M - 230.0,
+            M + 16.0 * i as f64
+        ));
+    }
+    svg.push_str("</svg>\n");
+    svg
+}
