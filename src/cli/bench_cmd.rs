@@ -51,7 +51,10 @@ struct Row {
     failures: usize,
 }
 
-fn suite(quick: bool) -> Result<(Vec<(String, Curve)>, Vec<Setting>)> {
+/// The suite's target curves, by name.
+type Targets = Vec<(String, Curve)>;
+
+fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
     let preset = |name: &str, params: serde_json::Value| -> Result<Curve> {
         Ok(Preset::from_name(name, params)
             .map_err(anyhow::Error::msg)?
