@@ -475,3 +475,46 @@ fn design_rejects_bad_options_in_one_line() {
         "pressure_kpa",
     );
 }
+
+#[test]
+fn design_checkpoints_and_resumes_from_the_file() {
+    let dir = temp_dir("checkpoint");
+    std::fs::create_dir_all(&dir).unwrap();
+    let curve = dir.join("arc.csv");
+    let preset = patchwork(&["preset", "arc", "radius_mm=40", "angle_deg=90"]);
+    std::fs::write(&curve, &preset.stdout).unwrap();
+    let checkpoint = dir.join("run.checkpoint");
+    let run = |out: &str| {
+        patchwork(&[
+            "design",
+            curve.to_str().unwrap(),
+            "--out",
+            dir.join(out).to_str().unwrap(),
+            "--fidelity",
+            "draft",
+            "--budget",
+            "30",
+            "--threads",
+            "1",
+            "--checkpoint",
+            checkpoint.to_str().unwrap(),
+            "--json",
+        ])
+    };
+    let first = run("first");
+    assert!(first.status.success());
+    let saved: Value =
+        serde_json::from_str(&std::fs::read_to_string(&checkpoint).unwrap()).unwrap();
+    assert!(saved["evaluations"].as_u64().unwrap() > 1);
+    assert!(!saved["optimizer"].is_null());
+    // Second run: resumes from the finished run's state, spends nothing more.
+    let second = run("second");
+    assert!(second.status.success());
+    assert!(String::from_utf8_lossy(&second.stderr).contains("resuming from"));
+    let (a, b) = (json(&first), json(&second));
+    assert_eq!(a["evaluations"], b["evaluations"]);
+    assert_eq!(a["design"], b["design"]);
+    // A file that is not a checkpoint is refused in one line.
+    std::fs::write(&checkpoint, "{}").unwrap();
+    assert_one_line_error(&run("third"), "not a design checkpoint");
+}

@@ -10,7 +10,10 @@ use clap::Args;
 use patchwork_core::design::Design;
 use patchwork_core::fabrication::design_files;
 use patchwork_core::fe::mesh::MeshSpec;
-use patchwork_core::inverse::{DesignReport, DesignRequest, Fidelity, Stage, design};
+use patchwork_core::inverse::{
+    DesignCheckpoint, DesignHooks, DesignProgress, DesignReport, DesignRequest, Fidelity, Stage,
+    design_resumable,
+};
 
 use super::input::{CurveInput, read_text_argument};
 use super::output::{emit, emit_json, patch_table};
@@ -53,6 +56,20 @@ pub struct DesignArgs {
     /// verification then uses half of it.
     #[arg(long)]
     mesh_mm: Option<f64>,
+    /// Write the run's state here after every generation; if the file exists,
+    /// resume from it (same curve and options) instead of starting again.
+    #[arg(long)]
+    checkpoint: Option<PathBuf>,
+}
+
+/// Writes the checkpoint to a temporary file and renames it over the old one,
+/// so an interrupted write never leaves a torn checkpoint.
+fn write_atomically(path: &std::path::Path, checkpoint: &DesignCheckpoint) -> Result<()> {
+    let text = serde_json::to_string(checkpoint)?;
+    let temporary = path.with_extension("tmp");
+    std::fs::write(&temporary, text)
+        .with_context(|| format!("cannot write {}", temporary.display()))?;
+    std::fs::rename(&temporary, path).with_context(|| format!("cannot write {}", path.display()))
 }
 
 pub fn run(args: DesignArgs) -> Result<()> {
@@ -94,7 +111,30 @@ pub fn run(args: DesignArgs) -> Result<()> {
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let terminal = std::io::stderr().is_terminal();
     let cancel = AtomicBool::new(false);
-    let outcome = design(&target, &request, &cancel, &mut |p| {
+    let resume = match &args.checkpoint {
+        Some(path) if path.exists() => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read {}", path.display()))?;
+            let checkpoint: DesignCheckpoint = serde_json::from_str(&text)
+                .with_context(|| format!("{}: not a design checkpoint", path.display()))?;
+            eprintln!(
+                "resuming from {} ({} evaluations done)",
+                path.display(),
+                checkpoint.evaluations
+            );
+            Some(checkpoint)
+        }
+        _ => None,
+    };
+    let mut save_error = None;
+    let mut save = |c: &DesignCheckpoint| {
+        if let Some(path) = &args.checkpoint
+            && let Err(e) = write_atomically(path, c)
+        {
+            save_error.get_or_insert(e);
+        }
+    };
+    let mut observe = |p: &DesignProgress| {
         if terminal {
             let stage = match p.stage {
                 Stage::Seed => "seed  ",
@@ -106,7 +146,16 @@ pub fn run(args: DesignArgs) -> Result<()> {
                 p.generation, p.evaluations, budget, p.best_objective, p.sigma, p.elapsed_s
             );
         }
-    })?;
+    };
+    let hooks = DesignHooks {
+        cancel: &cancel,
+        observer: &mut observe,
+        checkpoint: &mut save,
+    };
+    let outcome = design_resumable(&target, &request, resume, hooks)?;
+    if let Some(e) = save_error {
+        return Err(e);
+    }
     if terminal {
         eprintln!();
     }
