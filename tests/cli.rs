@@ -1,5 +1,8 @@
 //! Black-box tests of the command-line contract: the real binary, real files.
 
+mod common;
+use common::ezdxf_errors;
+
 use std::io::Write;
 use std::process::{Command, Output, Stdio};
 
@@ -356,28 +359,6 @@ fn simulate_rejects_invalid_designs_naming_the_field() {
         &patchwork_with_stdin(&["simulate", "-", "--rings", "1"], r#"{"patches": []}"#),
         "rings",
     );
-}
-
-/// ezdxf (the independent reader; `.ci/run` installs it) must read and audit a
-/// DXF with zero errors. It repairs the table-head handles the `dxf` crate
-/// writes, which are fixes, not errors.
-fn ezdxf_errors(path: &std::path::Path) -> usize {
-    let script =
-        "import sys, ezdxf\ndoc = ezdxf.readfile(sys.argv[1])\nprint(len(doc.audit().errors))";
-    let output = Command::new("python3")
-        .args(["-c", script])
-        .arg(path)
-        .output()
-        .expect("python3 runs");
-    assert!(
-        output.status.success(),
-        "ezdxf failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8_lossy(&output.stdout)
-        .trim()
-        .parse()
-        .expect("a count")
 }
 
 #[test]

@@ -9,20 +9,36 @@
 
 use std::sync::atomic::AtomicBool;
 
+use patchwork_core::Curve;
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::{SimulateOptions, simulate};
 use patchwork_core::inverse::{DesignRequest, Stage, design};
 
-#[test]
-fn one_patch_round_trip_recovers_the_design() {
+/// A reference-scene balloon of `length_mm`, and the inflated centreline of
+/// it carrying `patch` (2 mm model): a target with a known solution.
+fn one_patch_target(length_mm: f64, patch: Patch) -> (Design, Curve) {
     let base = Design {
         balloon: Balloon {
-            length_mm: 120.0,
+            length_mm,
             ..Balloon::default()
         },
         ..Design::reference(vec![])
     };
+    let target = simulate(
+        &Design {
+            patches: vec![patch],
+            ..base.clone()
+        },
+        &SimulateOptions::default(),
+    )
+    .unwrap()
+    .centreline;
+    (base, target)
+}
+
+#[test]
+fn one_patch_round_trip_recovers_the_design() {
     let truth = Patch {
         x_mm: 0.0,
         y_mm: 60.0,
@@ -30,15 +46,7 @@ fn one_patch_round_trip_recovers_the_design() {
         w_mm: 2.5,
         theta_deg: 15.0,
     };
-    let target = simulate(
-        &Design {
-            patches: vec![truth],
-            ..base.clone()
-        },
-        &SimulateOptions::default(),
-    )
-    .unwrap()
-    .centreline;
+    let (base, target) = one_patch_target(120.0, truth);
     let request = DesignRequest {
         base,
         fix_length: true,
@@ -86,28 +94,16 @@ fn one_patch_round_trip_recovers_the_design() {
 
 #[test]
 fn cancellation_stops_the_run() {
-    let base = Design {
-        balloon: Balloon {
-            length_mm: 120.0,
-            ..Balloon::default()
+    let (base, target) = one_patch_target(
+        120.0,
+        Patch {
+            x_mm: 0.0,
+            y_mm: 60.0,
+            h_mm: 20.0,
+            w_mm: 2.5,
+            theta_deg: 0.0,
         },
-        ..Design::reference(vec![])
-    };
-    let target = simulate(
-        &Design {
-            patches: vec![Patch {
-                x_mm: 0.0,
-                y_mm: 60.0,
-                h_mm: 20.0,
-                w_mm: 2.5,
-                theta_deg: 0.0,
-            }],
-            ..base.clone()
-        },
-        &SimulateOptions::default(),
-    )
-    .unwrap()
-    .centreline;
+    );
     let cancel = AtomicBool::new(false);
     let request = DesignRequest {
         base,
@@ -129,28 +125,16 @@ fn cancellation_stops_the_run() {
 #[test]
 fn a_run_resumes_from_a_serialised_checkpoint() {
     use patchwork_core::inverse::{DesignCheckpoint, DesignHooks, design_resumable};
-    let base = Design {
-        balloon: Balloon {
-            length_mm: 80.0,
-            ..Balloon::default()
+    let (base, target) = one_patch_target(
+        80.0,
+        Patch {
+            x_mm: 0.0,
+            y_mm: 40.0,
+            h_mm: 15.0,
+            w_mm: 2.5,
+            theta_deg: 10.0,
         },
-        ..Design::reference(vec![])
-    };
-    let target = simulate(
-        &Design {
-            patches: vec![Patch {
-                x_mm: 0.0,
-                y_mm: 40.0,
-                h_mm: 15.0,
-                w_mm: 2.5,
-                theta_deg: 10.0,
-            }],
-            ..base.clone()
-        },
-        &SimulateOptions::default(),
-    )
-    .unwrap()
-    .centreline;
+    );
     let request = DesignRequest {
         base,
         fix_length: true,
