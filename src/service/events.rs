@@ -16,11 +16,8 @@ use tokio::sync::broadcast::error::RecvError;
 use super::auth::Owner;
 use super::jobs::owned;
 use super::problem::Problem;
-use super::state::AppState;
-use super::store::StoredEvent;
-
-/// Event kinds after which a job sends nothing more.
-const FINAL: [&str; 3] = ["done", "failed", "cancelled"];
+use super::state::{AppState, FINAL_EVENTS};
+use super::store::{StoredEvent, TERMINAL};
 
 fn to_sse(event: &StoredEvent) -> Event {
     Event::default()
@@ -48,54 +45,46 @@ pub async fn stream(
             })?,
         None => 0,
     };
-    // Subscribe before reading the store, so nothing falls between the two.
-    let mut live = state.hub.subscribe(&id);
-    let ended_job = matches!(row.status.as_str(), "succeeded" | "failed" | "cancelled");
+    // An ended job's final event is already stored (it is written with the
+    // status): the store alone has everything. Otherwise subscribe before
+    // reading the store, so nothing falls between the two.
+    let ended = TERMINAL.contains(&row.status.as_str());
+    let mut live = (!ended).then(|| state.hub.subscribe(&id));
     let stream = async_stream::stream! {
         let mut last = last_seen;
-        let mut finished = false;
         let mut backlog = match state.store.events_after(&id, last).await {
             Ok(events) => events,
             Err(e) => { tracing::error!(job = %id, "events: {e}"); return; }
         };
         loop {
+            let mut finished = false;
             for event in backlog.drain(..) {
                 if event.seq <= last { continue; }
                 last = event.seq;
-                finished |= FINAL.contains(&event.kind.as_str());
+                finished |= FINAL_EVENTS.contains(&event.kind.as_str());
                 yield Ok::<Event, Infallible>(to_sse(&event));
             }
-            if finished || (ended_job && last >= last_seen_final(&state, &id).await) {
+            let Some(receiver) = live.as_mut().filter(|_| !finished) else {
                 break;
-            }
-            match live.recv().await {
+            };
+            match receiver.recv().await {
                 Ok(event) => backlog.push(event),
-                // Fell behind or the channel went: catch up from the store.
-                Err(RecvError::Lagged(_)) | Err(RecvError::Closed) => {
+                // Fell behind, or the job ended: catch up from the store.
+                Err(error) => {
+                    if matches!(error, RecvError::Closed) {
+                        live = None;
+                    }
                     match state.store.events_after(&id, last).await {
-                        Ok(events) if !events.is_empty() => backlog = events,
-                        Ok(_) => {
-                            tokio::time::sleep(Duration::from_millis(200)).await;
-                            live = state.hub.subscribe(&id);
-                        }
-                        Err(_) => break,
+                        Ok(events) => backlog = events,
+                        Err(e) => { tracing::error!(job = %id, "events: {e}"); break; }
                     }
                 }
             }
         }
+        drop(live);
+        state.hub.forget_if_unused(&id);
     };
     Ok(Sse::new(stream)
         .keep_alive(KeepAlive::new().interval(Duration::from_secs(15)))
         .into_response())
-}
-
-/// The id of a job's last stored event (0 when it has none).
-async fn last_seen_final(state: &AppState, id: &str) -> i64 {
-    state
-        .store
-        .events_after(id, 0)
-        .await
-        .ok()
-        .and_then(|e| e.last().map(|e| e.seq))
-        .unwrap_or(0)
 }

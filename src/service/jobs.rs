@@ -243,13 +243,11 @@ pub async fn cancel(
             format!("the job has already {}", row.status),
         ));
     }
-    if row.status != "cancelled" && state.store.set_status(&id, "cancelled", None).await? {
+    let event = json!({"reason": "cancelled by request"});
+    if row.status != "cancelled" && state.end_job(&id, "cancelled", None, &event).await? {
         if let Some(control) = state.control(&id) {
             control.stop(StopReason::Cancelled);
         }
-        state
-            .emit(&id, "cancelled", &json!({"reason": "cancelled by request"}))
-            .await?;
         tracing::info!(job = %id, "job cancelled");
     }
     let row = owned(&state, &owner, &id).await?;

@@ -87,31 +87,28 @@ pub async fn metrics(State(state): State<AppState>) -> Result<Response, Problem>
             c.forward_solves.load(Ordering::Relaxed) as f64,
         )],
     );
-    let seconds =
-        |micros: &std::sync::atomic::AtomicU64| micros.load(Ordering::Relaxed) as f64 * 1e-6;
-    metric(
-        "patchwork_job_seconds",
-        "summary",
-        "Wall time of design job runs in this process.",
-        vec![
-            ("_sum".to_string(), seconds(&c.job_micros)),
-            (
-                "_count".to_string(),
-                c.jobs_finished.load(Ordering::Relaxed) as f64,
-            ),
-        ],
-    );
-    metric(
-        "patchwork_simulate_seconds",
-        "summary",
-        "Wall time of synchronous forward solves (POST /v1/simulate).",
-        vec![
-            ("_sum".to_string(), seconds(&c.simulate_micros)),
-            (
-                "_count".to_string(),
-                c.simulate_requests.load(Ordering::Relaxed) as f64,
-            ),
-        ],
-    );
+    for (name, help, timings) in [
+        (
+            "patchwork_job_seconds",
+            "Wall time of design job runs in this process.",
+            &c.jobs,
+        ),
+        (
+            "patchwork_simulate_seconds",
+            "Wall time of synchronous forward solves (POST /v1/simulate).",
+            &c.simulate,
+        ),
+    ] {
+        // A summary without quantiles: the `_sum` and `_count` series.
+        metric(
+            name,
+            "summary",
+            help,
+            vec![
+                ("_sum".to_string(), timings.seconds()),
+                ("_count".to_string(), timings.count() as f64),
+            ],
+        );
+    }
     Ok(([(header::CONTENT_TYPE, "text/plain; version=0.0.4")], out).into_response())
 }

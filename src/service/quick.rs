@@ -1,7 +1,6 @@
 //! Synchronous quick looks: `POST /v1/ksa`, `POST /v1/simulate` (with a time
 //! cap) and `GET /v1/presets`. The computation runs on a blocking thread.
 
-use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use axum::Json;
@@ -156,11 +155,7 @@ pub async fn simulate_route(
     let work = blocking(move || simulate(&body.design, &options));
     // The solver honours the cap itself; this guards the response regardless.
     let outcome = tokio::time::timeout(cap * 3 + Duration::from_secs(5), work).await;
-    let counters = &state.counters;
-    counters.simulate_requests.fetch_add(1, Ordering::Relaxed);
-    counters
-        .simulate_micros
-        .fetch_add(started.elapsed().as_micros() as u64, Ordering::Relaxed);
+    state.counters.simulate.record(started.elapsed());
     match outcome {
         Ok(Ok(Ok(sim))) => Ok(Json(SimulateReport::new(&sim))),
         Ok(Ok(Err(e))) => Err(Problem::invalid("design", e.to_string())),

@@ -72,27 +72,64 @@ impl Hub {
             .subscribe()
     }
 
+    /// Drops the job's channel when no listener is left (a listener that
+    /// subscribed to a job that then ended without publishing again).
+    pub fn forget_if_unused(&self, job: &str) {
+        let mut channels = self.channels.lock().unwrap_or_else(|p| p.into_inner());
+        if channels.get(job).is_some_and(|s| s.receiver_count() == 0) {
+            channels.remove(job);
+        }
+    }
+
+    /// Sends an event to the job's listeners. After a final event the channel
+    /// is dropped: listeners still receive what was sent, then `Closed`.
     pub fn publish(&self, job: &str, event: StoredEvent) {
+        let last = FINAL_EVENTS.contains(&event.kind.as_str());
         let mut channels = self.channels.lock().unwrap_or_else(|p| p.into_inner());
         if let Some(sender) = channels.get(job)
-            && sender.send(event).is_err()
+            && (sender.send(event).is_err() || last)
         {
-            // Nobody listens any more.
+            // Nobody listens any more, or nothing more will come.
             channels.remove(job);
         }
     }
 }
 
+/// Event kinds after which a job sends nothing more.
+pub const FINAL_EVENTS: [&str; 3] = ["done", "failed", "cancelled"];
+
 /// Process-lifetime counters for /metrics.
 #[derive(Default)]
 pub struct Counters {
-    pub simulate_requests: AtomicU64,
-    /// Sum of synchronous simulate times, microseconds.
-    pub simulate_micros: AtomicU64,
-    pub jobs_finished: AtomicU64,
-    /// Sum of finished jobs' wall times, microseconds.
-    pub job_micros: AtomicU64,
+    /// Synchronous simulations (POST /v1/simulate).
+    pub simulate: Timings,
+    /// Design job runs in this process (a resumed job counts again).
+    pub jobs: Timings,
     pub forward_solves: AtomicU64,
+}
+
+/// How many times something ran and its total wall time: a Prometheus summary
+/// without quantiles.
+#[derive(Default)]
+pub struct Timings {
+    count: AtomicU64,
+    micros: AtomicU64,
+}
+
+impl Timings {
+    pub fn record(&self, took: std::time::Duration) {
+        self.count.fetch_add(1, Ordering::Relaxed);
+        self.micros
+            .fetch_add(took.as_micros() as u64, Ordering::Relaxed);
+    }
+
+    pub fn count(&self) -> u64 {
+        self.count.load(Ordering::Relaxed)
+    }
+
+    pub fn seconds(&self) -> f64 {
+        self.micros.load(Ordering::Relaxed) as f64 * 1e-6
+    }
 }
 
 impl Shared {
@@ -109,6 +146,33 @@ impl Shared {
             .await?;
         self.hub.publish(job, event);
         Ok(())
+    }
+
+    /// Ends a job (`failed` or `cancelled`) with its final event; false if it
+    /// had already ended.
+    pub async fn end_job(
+        &self,
+        job: &str,
+        status: &str,
+        error: Option<&str>,
+        data: &serde_json::Value,
+    ) -> Result<bool, sqlx::Error> {
+        let kind = if status == "cancelled" {
+            "cancelled"
+        } else {
+            "failed"
+        };
+        let stored = self
+            .store
+            .end(job, status, error, (kind, &data.to_string()))
+            .await?;
+        Ok(match stored {
+            Some(event) => {
+                self.hub.publish(job, event);
+                true
+            }
+            None => false,
+        })
     }
 
     pub fn control(&self, job: &str) -> Option<Arc<JobControl>> {

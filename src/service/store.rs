@@ -8,7 +8,7 @@ use std::time::Duration;
 use patchwork_core::fabrication::OutputFile;
 use serde::Serialize;
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
-use sqlx::{FromRow, SqlitePool};
+use sqlx::{FromRow, SqliteConnection, SqlitePool};
 
 #[derive(Clone)]
 pub struct Store {
@@ -198,14 +198,30 @@ impl Store {
         .rows_affected())
     }
 
-    /// Moves a job that has not ended to `status`; false if it had ended.
-    pub async fn set_status(
+    /// Puts a running job back in the queue (shutdown); its checkpoint stays.
+    pub async fn requeue(&self, id: &str) -> Result<(), sqlx::Error> {
+        sqlx::query(
+            "UPDATE jobs SET status = 'queued', updated_at = ? WHERE id = ? AND status = 'running'",
+        )
+        .bind(now())
+        .bind(id)
+        .execute(&self.pool)
+        .await
+        .map(|_| ())
+    }
+
+    /// Ends a job that has not ended — `failed` or `cancelled` — and stores its
+    /// final event in the same transaction, so an ended job always has its
+    /// final event. `None` when the job had already ended.
+    pub async fn end(
         &self,
         id: &str,
         status: &str,
         error: Option<&str>,
-    ) -> Result<bool, sqlx::Error> {
-        let done = sqlx::query(
+        event: (&str, &str),
+    ) -> Result<Option<StoredEvent>, sqlx::Error> {
+        let mut tx = self.pool.begin().await?;
+        let updated = sqlx::query(
             "UPDATE jobs SET status = ?, error = ?, updated_at = ?
              WHERE id = ? AND status NOT IN ('succeeded', 'failed', 'cancelled')",
         )
@@ -213,9 +229,14 @@ impl Store {
         .bind(error)
         .bind(now())
         .bind(id)
-        .execute(&self.pool)
+        .execute(&mut *tx)
         .await?;
-        Ok(done.rows_affected() == 1)
+        if updated.rows_affected() != 1 {
+            return Ok(None);
+        }
+        let stored = insert_event(&mut tx, id, event).await?;
+        tx.commit().await?;
+        Ok(Some(stored))
     }
 
     /// Appends an event with the job's next id.
@@ -225,17 +246,8 @@ impl Store {
         kind: &str,
         data: &str,
     ) -> Result<StoredEvent, sqlx::Error> {
-        sqlx::query_as(
-            "INSERT INTO events (job_id, seq, kind, data, created_at)
-             SELECT ?1, COALESCE(MAX(seq), 0) + 1, ?2, ?3, ?4 FROM events WHERE job_id = ?1
-             RETURNING seq, kind, data",
-        )
-        .bind(id)
-        .bind(kind)
-        .bind(data)
-        .bind(now())
-        .fetch_one(&self.pool)
-        .await
+        let mut connection = self.pool.acquire().await?;
+        insert_event(&mut connection, id, (kind, data)).await
     }
 
     pub async fn events_after(
@@ -293,14 +305,16 @@ impl Store {
             .map(|_| ())
     }
 
-    /// Stores the result and its files and marks the job succeeded, at once.
-    /// False (nothing stored) when the job had already ended (cancelled).
+    /// Stores the result, its files and the `done` event and marks the job
+    /// succeeded, all at once. `None` (nothing stored) when the job had
+    /// already ended (cancelled).
     pub async fn finish(
         &self,
         id: &str,
         result: &str,
         files: &[OutputFile],
-    ) -> Result<bool, sqlx::Error> {
+        done: &str,
+    ) -> Result<Option<StoredEvent>, sqlx::Error> {
         let mut tx = self.pool.begin().await?;
         let updated = sqlx::query(
             "UPDATE jobs SET status = 'succeeded', result = ?, updated_at = ?
@@ -312,7 +326,7 @@ impl Store {
         .execute(&mut *tx)
         .await?;
         if updated.rows_affected() != 1 {
-            return Ok(false);
+            return Ok(None);
         }
         for file in files {
             sqlx::query(
@@ -325,8 +339,9 @@ impl Store {
             .execute(&mut *tx)
             .await?;
         }
+        let stored = insert_event(&mut tx, id, ("done", done)).await?;
         tx.commit().await?;
-        Ok(true)
+        Ok(Some(stored))
     }
 
     pub async fn iterations(
@@ -373,4 +388,24 @@ impl Store {
             .await
             .map(|_| ())
     }
+}
+
+/// Inserts an event with the job's next id (one statement, so two writers
+/// never take the same id).
+async fn insert_event(
+    connection: &mut SqliteConnection,
+    id: &str,
+    (kind, data): (&str, &str),
+) -> Result<StoredEvent, sqlx::Error> {
+    sqlx::query_as(
+        "INSERT INTO events (job_id, seq, kind, data, created_at)
+         SELECT ?1, COALESCE(MAX(seq), 0) + 1, ?2, ?3, ?4 FROM events WHERE job_id = ?1
+         RETURNING seq, kind, data",
+    )
+    .bind(id)
+    .bind(kind)
+    .bind(data)
+    .bind(now())
+    .fetch_one(connection)
+    .await
 }

@@ -70,6 +70,7 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
     };
     let resume: Option<DesignCheckpoint> = checkpoint.and_then(|c| serde_json::from_str(&c).ok());
     let earlier = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
+    let resumed_evaluations = resume.as_ref().map_or(0, |c| c.evaluations);
     if let Some(c) = &resume {
         tracing::info!(evaluations = c.evaluations, "resuming from checkpoint");
     } else {
@@ -118,7 +119,8 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
     };
     let started = Instant::now();
     let mut last_stage = None;
-    let mut last_evaluations = 0;
+    // Evaluations already counted in /metrics (a resumed job's earlier ones were).
+    let mut last_evaluations = resumed_evaluations;
     while let Some(message) = rx.recv().await {
         if let Err(e) = record(state, &id, message, &mut last_stage, &mut last_evaluations).await {
             tracing::error!("recording progress: {e}");
@@ -129,11 +131,7 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
     if let Ok(mut running) = state.running.lock() {
         running.remove(&id);
     }
-    let counters = &state.counters;
-    counters.jobs_finished.fetch_add(1, Ordering::Relaxed);
-    counters
-        .job_micros
-        .fetch_add(started.elapsed().as_micros() as u64, Ordering::Relaxed);
+    state.counters.jobs.record(started.elapsed());
     match outcome {
         Ok(Ok(outcome)) => {
             let report = DesignReport::new(&outcome, seed);
@@ -146,36 +144,37 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
                 .find(|f| f.name == "design.json")
                 .map(|f| String::from_utf8_lossy(&f.body).into_owned())
                 .unwrap_or_default();
-            match state.store.finish(&id, &result, &files).await {
-                Ok(true) => {
-                    let m = &report.metrics;
-                    let _ = state
-                        .emit(
-                            &id,
-                            "done",
-                            &json!({
-                                "result": format!("/v1/jobs/{id}/result"),
-                                "shape_error_percent": finite(m.shape_error_percent),
-                                "objective": finite(m.objective),
-                                "evaluations": report.evaluations,
-                                "elapsed_s": report.elapsed_s,
-                            }),
-                        )
-                        .await;
+            let m = &report.metrics;
+            let done = json!({
+                "result": format!("/v1/jobs/{id}/result"),
+                "shape_error_percent": finite(m.shape_error_percent),
+                "objective": finite(m.objective),
+                "evaluations": report.evaluations,
+                "elapsed_s": report.elapsed_s,
+            });
+            match state
+                .store
+                .finish(&id, &result, &files, &done.to_string())
+                .await
+            {
+                Ok(Some(event)) => {
+                    state.hub.publish(&id, event);
                     tracing::info!(
                         evaluations = report.evaluations,
                         shape_error_percent = m.shape_error_percent,
                         "succeeded"
                     );
                 }
-                Ok(false) => tracing::info!("finished after it was cancelled; result dropped"),
+                Ok(None) => tracing::info!("finished after it was cancelled; result dropped"),
                 Err(e) => tracing::error!("storing the result: {e}"),
             }
         }
         Ok(Err(DesignRunError::Cancelled)) => match control.reason() {
             Some(StopReason::Shutdown) => {
                 // Back to the queue: the next start resumes from the checkpoint.
-                let _ = state.store.set_status(&id, "queued", None).await;
+                if let Err(e) = state.store.requeue(&id).await {
+                    tracing::error!("re-queueing: {e}");
+                }
                 tracing::info!("interrupted by shutdown; queued to resume");
             }
             Some(StopReason::TimeLimit) => {
@@ -242,12 +241,9 @@ async fn record(
 
 async fn fail(state: &AppState, id: &str, error: &str) {
     tracing::warn!("failed: {error}");
-    match state.store.set_status(id, "failed", Some(error)).await {
-        Ok(true) => {
-            let _ = state.emit(id, "failed", &json!({ "error": error })).await;
-        }
-        Ok(false) => {}
-        Err(e) => tracing::error!("marking failed: {e}"),
+    let event = json!({ "error": error });
+    if let Err(e) = state.end_job(id, "failed", Some(error), &event).await {
+        tracing::error!("marking failed: {e}");
     }
 }
 
