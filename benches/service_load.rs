@@ -48,16 +48,7 @@ async fn main() {
     // Two long jobs keep both workers (both cores) busy.
     let mut busy = Vec::new();
     for seed in [1, 2] {
-        let job: Value = client
-            .post(format!("{base}/v1/jobs"))
-            .json(&job(100_000, seed))
-            .send()
-            .await
-            .unwrap()
-            .json()
-            .await
-            .unwrap();
-        busy.push(job["id"].as_str().unwrap().to_string());
+        busy.push(submit(&client, &base, job(100_000, seed)).await);
     }
     tokio::time::sleep(Duration::from_secs(2)).await;
     let status_url = format!("{base}/v1/jobs/{}", busy[0]);
@@ -92,16 +83,7 @@ async fn main() {
         .post(format!("{base}/v1/jobs/{}/cancel", busy[1]))
         .send()
         .await;
-    let watched: Value = client
-        .post(format!("{base}/v1/jobs"))
-        .json(&job(300, 9))
-        .send()
-        .await
-        .unwrap()
-        .json()
-        .await
-        .unwrap();
-    let id = watched["id"].as_str().unwrap().to_string();
+    let id = submit(&client, &base, job(300, 9)).await;
     let started = Instant::now();
     let clients: Vec<_> = (0..SSE_CLIENTS)
         .map(|_| {
@@ -129,6 +111,20 @@ async fn main() {
         .await;
     let _ = child.kill();
     let _ = child.wait();
+}
+
+/// Submits a job; returns its id.
+async fn submit(client: &reqwest::Client, base: &str, body: Value) -> String {
+    let job: Value = client
+        .post(format!("{base}/v1/jobs"))
+        .json(&body)
+        .send()
+        .await
+        .unwrap()
+        .json()
+        .await
+        .unwrap();
+    job["id"].as_str().unwrap().to_string()
 }
 
 /// GET status at a fixed rate (requests are issued on schedule whether or not

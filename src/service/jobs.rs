@@ -12,7 +12,7 @@ use super::auth::Owner;
 use super::problem::{ApiJson, Problem};
 use super::request::JobRequest;
 use super::state::{AppState, StopReason};
-use super::store::{JobRow, TERMINAL};
+use super::store::{JobRow, STATUSES};
 
 /// The files of a finished job.
 pub const FILES: [&str; 6] = [
@@ -182,8 +182,7 @@ pub async fn list(
 ) -> Result<Response, Problem> {
     let Query(query) = query.map_err(|e| Problem::new(StatusCode::BAD_REQUEST, e.body_text()))?;
     if let Some(status) = &query.status
-        && !["queued", "running"].contains(&status.as_str())
-        && !TERMINAL.contains(&status.as_str())
+        && !STATUSES.contains(&status.as_str())
     {
         return Err(Problem::new(
             StatusCode::BAD_REQUEST,
@@ -191,12 +190,7 @@ pub async fn list(
         )
         .field("status"));
     }
-    let limit = query.limit.unwrap_or(50);
-    if !(1..=500).contains(&limit) {
-        return Err(
-            Problem::new(StatusCode::BAD_REQUEST, "limit must be between 1 and 500").field("limit"),
-        );
-    }
+    let limit = page_limit(query.limit, 50, 500)?;
     let rows = state
         .store
         .list_jobs(
@@ -284,13 +278,7 @@ pub async fn iterations(
 ) -> Result<Response, Problem> {
     let Query(query) = query.map_err(|e| Problem::new(StatusCode::BAD_REQUEST, e.body_text()))?;
     owned(&state, &owner, &id).await?;
-    let limit = query.limit.unwrap_or(100);
-    if !(1..=1000).contains(&limit) {
-        return Err(
-            Problem::new(StatusCode::BAD_REQUEST, "limit must be between 1 and 1000")
-                .field("limit"),
-        );
-    }
+    let limit = page_limit(query.limit, 100, 1000)?;
     let rows = state
         .store
         .iterations(&id, query.after.unwrap_or(0), limit)
@@ -299,6 +287,20 @@ pub async fn iterations(
         .then(|| rows.last().map(|r| r.evaluations))
         .flatten();
     Ok(axum::Json(json!({ "iterations": rows, "next_after": next })).into_response())
+}
+
+/// A page size from the `limit` query parameter.
+fn page_limit(limit: Option<i64>, default: i64, max: i64) -> Result<i64, Problem> {
+    let limit = limit.unwrap_or(default);
+    if (1..=max).contains(&limit) {
+        Ok(limit)
+    } else {
+        Err(Problem::new(
+            StatusCode::BAD_REQUEST,
+            format!("limit must be between 1 and {max}"),
+        )
+        .field("limit"))
+    }
 }
 
 fn not_ready(row: &JobRow) -> Problem {

@@ -10,6 +10,7 @@ use serde_json::json;
 
 use super::problem::Problem;
 use super::state::AppState;
+use super::store::STATUSES;
 
 pub const OPENAPI: &str = include_str!("../../openapi.yaml");
 
@@ -39,10 +40,12 @@ pub async fn openapi() -> Response {
 /// Prometheus text exposition format 0.0.4.
 pub async fn metrics(State(state): State<AppState>) -> Result<Response, Problem> {
     let by_status = state.store.count_by_status().await?;
-    let queued = by_status
-        .iter()
-        .find(|(s, _)| s == "queued")
-        .map_or(0, |(_, n)| *n);
+    let count = |status: &str| {
+        by_status
+            .iter()
+            .find(|(s, _)| s == status)
+            .map_or(0, |(_, n)| *n)
+    };
     let c = &state.counters;
     let mut out = String::new();
     let mut metric = |name: &str, kind: &str, help: &str, lines: Vec<(String, f64)>| {
@@ -55,21 +58,15 @@ pub async fn metrics(State(state): State<AppState>) -> Result<Response, Problem>
         "patchwork_queue_depth",
         "gauge",
         "Jobs waiting for a worker.",
-        vec![(String::new(), queued as f64)],
+        vec![(String::new(), count("queued") as f64)],
     );
     metric(
         "patchwork_jobs",
         "gauge",
         "Jobs in the store by status.",
-        ["queued", "running", "succeeded", "failed", "cancelled"]
+        STATUSES
             .iter()
-            .map(|s| {
-                let n = by_status
-                    .iter()
-                    .find(|(t, _)| t == s)
-                    .map_or(0, |(_, n)| *n);
-                (format!("{{status=\"{s}\"}}"), n as f64)
-            })
+            .map(|s| (format!("{{status=\"{s}\"}}"), count(s) as f64))
             .collect(),
     );
     metric(

@@ -19,41 +19,36 @@ use super::request::{CurveSpec, validate_design};
 use super::state::AppState;
 use crate::reports::{KsaReport, SimulateReport};
 
+/// `POST /v1/ksa`; every field but `curve` defaults to the reference scene.
 #[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct KsaRequest {
     curve: CurveSpec,
-    #[serde(default)]
     units: Units,
-    #[serde(default = "default_l0")]
     l0_mm: f64,
-    #[serde(default = "default_r0")]
     r0_mm: f64,
-    #[serde(default = "default_kappa_tol")]
     kappa_tol: f64,
-    #[serde(default = "default_merge")]
     merge_mm: f64,
-    #[serde(default = "default_width")]
     width_mm: f64,
     /// Axial stretch λ; absent = the authors' uniform L_curve / L₀.
-    #[serde(default)]
     stretch: Option<f64>,
 }
 
-fn default_l0() -> f64 {
-    KsaParams::default().l0_mm
-}
-fn default_r0() -> f64 {
-    KsaParams::default().r0_mm
-}
-fn default_kappa_tol() -> f64 {
-    KsaParams::default().kappa_tol
-}
-fn default_merge() -> f64 {
-    KsaParams::default().merge_mm
-}
-fn default_width() -> f64 {
-    KsaParams::default().width_mm
+impl Default for KsaRequest {
+    fn default() -> Self {
+        let p = KsaParams::default();
+        KsaRequest {
+            // An empty curve: `CurveSpec::load` names the missing curve.
+            curve: CurveSpec::default(),
+            units: Units::Mm,
+            l0_mm: p.l0_mm,
+            r0_mm: p.r0_mm,
+            kappa_tol: p.kappa_tol,
+            merge_mm: p.merge_mm,
+            width_mm: p.width_mm,
+            stretch: None,
+        }
+    }
 }
 
 fn positive(field: &str, value: f64) -> Result<(), Problem> {

@@ -1,7 +1,7 @@
 //! The job request (`POST /v1/jobs`) and the quick-look bodies, checked at the
 //! boundary: whatever passes here is a design run that can start.
 
-use patchwork_core::curve::{Curve, Preset, Units, read_json, read_text};
+use patchwork_core::curve::{Curve, Preset, Units, points_from_json, read_text};
 use patchwork_core::design::Design;
 use patchwork_core::inverse::{DesignRequest, Fidelity, Freedom, VariableBounds};
 use serde::{Deserialize, Serialize};
@@ -17,7 +17,7 @@ pub const MAX_BUDGET: usize = 100_000;
 #[serde(deny_unknown_fields)]
 pub struct CurveSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub points: Option<Vec<Vec<f64>>>,
+    pub points: Option<Vec<Vec<Value>>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub csv: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -121,8 +121,7 @@ impl CurveSpec {
             ));
         }
         if let Some(points) = &self.points {
-            let json = serde_json::json!({ "points": points }).to_string();
-            return read_json(&json, units)
+            return points_from_json(points, units)
                 .map_err(|e| Problem::invalid(format!("{field}.points"), e.to_string()));
         }
         if let Some(csv) = &self.csv {

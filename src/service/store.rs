@@ -45,6 +45,8 @@ pub struct Iteration {
     pub elapsed_s: f64,
 }
 
+/// Every job status, and those of jobs that have ended.
+pub const STATUSES: [&str; 5] = ["queued", "running", "succeeded", "failed", "cancelled"];
 pub const TERMINAL: [&str; 3] = ["succeeded", "failed", "cancelled"];
 
 const JOB_COLUMNS: &str = "id, status, request, created_at, updated_at, progress, error";

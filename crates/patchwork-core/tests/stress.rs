@@ -181,22 +181,32 @@ fn abusive_designs_converge_or_fail_with_a_typed_error() {
         };
         t.simulate(name, &d);
     }
-    t.simulate(
-        "width 0.1 mm",
-        &with_patches(vec![patch(0.0, 146.0, 20.0, 0.1, 0.0)]),
-    );
-    t.simulate(
-        "width 20 mm (whole circumference)",
-        &with_patches(vec![patch(0.0, 146.0, 20.0, 20.0, 0.0)]),
-    );
-    t.simulate(
-        "Θ = +89°",
-        &with_patches(vec![patch(0.0, 146.0, 20.0, 2.0, 89.0)]),
-    );
-    t.simulate(
-        "Θ = −89°",
-        &with_patches(vec![patch(0.0, 146.0, 20.0, 2.0, -89.0)]),
-    );
+    let one_patch = [
+        ("width 0.1 mm", patch(0.0, 146.0, 20.0, 0.1, 0.0)),
+        (
+            "width 20 mm (whole circumference)",
+            patch(0.0, 146.0, 20.0, 20.0, 0.0),
+        ),
+        ("Θ = +89°", patch(0.0, 146.0, 20.0, 2.0, 89.0)),
+        ("Θ = −89°", patch(0.0, 146.0, 20.0, 2.0, -89.0)),
+        ("patch across the seam", patch(19.5, 146.0, 20.0, 3.0, 20.0)),
+        (
+            "patch hanging off the base",
+            patch(0.0, 2.0, 20.0, 2.0, 0.0),
+        ),
+        (
+            "patch hanging off the far end",
+            patch(0.0, 290.0, 20.0, 2.0, 0.0),
+        ),
+        (
+            "patch wholly off the balloon",
+            patch(0.0, 400.0, 20.0, 2.0, 0.0),
+        ),
+        ("negative width", patch(0.0, 146.0, 20.0, -2.0, 0.0)),
+    ];
+    for (name, p) in one_patch {
+        t.simulate(name, &with_patches(vec![p]));
+    }
     t.simulate(
         "three overlapping patches",
         &with_patches(vec![
@@ -204,26 +214,6 @@ fn abusive_designs_converge_or_fail_with_a_typed_error() {
             patch(0.5, 146.0, 20.0, 2.0, 30.0),
             patch(1.0, 150.0, 20.0, 2.0, -30.0),
         ]),
-    );
-    t.simulate(
-        "patch across the seam",
-        &with_patches(vec![patch(19.5, 146.0, 20.0, 3.0, 20.0)]),
-    );
-    t.simulate(
-        "patch hanging off the base",
-        &with_patches(vec![patch(0.0, 2.0, 20.0, 2.0, 0.0)]),
-    );
-    t.simulate(
-        "patch hanging off the far end",
-        &with_patches(vec![patch(0.0, 290.0, 20.0, 2.0, 0.0)]),
-    );
-    t.simulate(
-        "patch wholly off the balloon",
-        &with_patches(vec![patch(0.0, 400.0, 20.0, 2.0, 0.0)]),
-    );
-    t.simulate(
-        "negative width",
-        &with_patches(vec![patch(0.0, 146.0, 20.0, -2.0, 0.0)]),
     );
 
     // The neo-Hookean tube's pressure maximum: p R0 / (μ t0) = 0.749868.

@@ -20,7 +20,7 @@ pub use frames::{Frame, bishop_frames, frenet_frames};
 pub use polyline::Curve;
 pub use presets::{Preset, ReferenceCurve};
 pub use profile::interpolate;
-pub use read::{Units, read_curve, read_json, read_text};
+pub use read::{Units, points_from_json, read_curve, read_json, read_text};
 pub use shape_error::{ShapeError, shape_error};
 
 /// A point or vector in 3D, millimetres.

@@ -140,7 +140,7 @@ pub fn read_json(input: &str, units: Units) -> Result<Curve, CurveError> {
 }
 
 /// Converts already-parsed JSON rows (as in an API request) into a curve.
-pub(crate) fn points_from_json(
+pub fn points_from_json(
     rows: &[Vec<serde_json::Value>],
     units: Units,
 ) -> Result<Curve, CurveError> {

@@ -315,15 +315,18 @@ pub fn design_resumable(
             }
             f
         };
-        let mut optimizer = match state.optimizer.take() {
-            Some(optimizer) => optimizer,
-            None => Optimizer::new(search_options(&space, request)),
-        };
+        // The optimiser lives in the checkpoint state, so what is checkpointed
+        // is what runs.
         let ended = loop {
             if cancel.load(Ordering::Relaxed) {
                 return Err(DesignRunError::Cancelled);
             }
+            let optimizer = state
+                .optimizer
+                .get_or_insert_with(|| Optimizer::new(search_options(&space, request)));
             let ended = optimizer.step(&objective);
+            let (generation, sigma) = (optimizer.strategy.generation, optimizer.strategy.sigma);
+            state.evaluations = 1 + optimizer.evaluations();
             // A generation evaluated while cancelling saw infinities: drop it.
             if cancel.load(Ordering::Relaxed) {
                 return Err(DesignRunError::Cancelled);
@@ -332,19 +335,16 @@ pub fn design_resumable(
                 state.best_objective = found.0;
                 state.best_patches = found.1.clone();
             }
-            state.evaluations = 1 + optimizer.evaluations();
             report(
                 Stage::Search,
-                optimizer.strategy.generation,
+                generation,
                 state.evaluations,
                 state.best_objective,
-                optimizer.strategy.sigma,
+                sigma,
                 observer,
             );
             state.elapsed_s = elapsed();
-            state.optimizer = Some(optimizer);
             checkpoint(&state);
-            optimizer = state.optimizer.take().expect("just stored");
             if let Some(ended) = ended {
                 break ended;
             }
