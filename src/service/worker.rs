@@ -68,7 +68,14 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
         Ok(p) => p,
         Err(p) => return fail(state, &id, &p.detail).await,
     };
-    let resume: Option<DesignCheckpoint> = checkpoint.and_then(|c| serde_json::from_str(&c).ok());
+    let resume: Option<DesignCheckpoint> =
+        checkpoint.and_then(|c| match serde_json::from_str(&c) {
+            Ok(checkpoint) => Some(checkpoint),
+            Err(e) => {
+                tracing::warn!("checkpoint unreadable, starting again: {e}");
+                None
+            }
+        });
     let earlier = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
     let resumed_evaluations = resume.as_ref().map_or(0, |c| c.evaluations);
     if let Some(c) = &resume {
@@ -207,14 +214,8 @@ async fn record(
                 *last_stage = Some(p.stage);
                 state.emit(id, "stage", &json!({"stage": p.stage})).await?;
             }
-            let progress = json!({
-                "stage": p.stage,
-                "generation": p.generation,
-                "evaluations": p.evaluations,
-                "best_objective": finite(p.best_objective),
-                "sigma": p.sigma,
-                "elapsed_s": p.elapsed_s,
-            });
+            // A NaN objective (before the seed is evaluated) serialises as null.
+            let progress = serde_json::to_value(p).unwrap_or_default();
             let iteration = (p.stage == Stage::Search).then_some(Iteration {
                 evaluations: p.evaluations as i64,
                 generation: p.generation as i64,

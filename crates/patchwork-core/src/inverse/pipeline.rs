@@ -245,12 +245,17 @@ pub fn design_resumable(
 
     let (mut state, warm_start) = match resume {
         Some(state) => {
-            // The incumbent's state warms the next solves, as it did before.
-            let incumbent = Design {
-                patches: state.best_patches.clone(),
-                ..state.base.clone()
+            // The incumbent's state warms the next solves, as it did before
+            // (one extra solve, only when warm starts are on).
+            let warm = if request.warm_starts {
+                let incumbent = Design {
+                    patches: state.best_patches.clone(),
+                    ..state.base.clone()
+                };
+                evaluate(&incumbent, None).1
+            } else {
+                None
             };
-            let warm = evaluate(&incumbent, None).1;
             (state, warm)
         }
         None => {
