@@ -48,12 +48,13 @@ pub struct DesignArgs {
     /// inflated balloon is as long as the curve (the mismatch is reported).
     #[arg(long)]
     fix_length: bool,
-    /// Model fidelity: draft (search on 3 mm elements, verify on 2 mm),
-    /// standard (2/1 mm) or fine (1/0.5 mm).
+    /// Model fidelity: draft (search on 3 mm rings, verify on 1 mm), standard
+    /// (2 / 1 mm) or fine (1 mm, twice the budget, verify on a uniform 0.5 mm
+    /// mesh); meshes are refined under patches, coarse along bare stretches.
     #[arg(long, default_value = "standard")]
     fidelity: Fidelity,
-    /// Element size of the search model (mm), overriding the fidelity's;
-    /// verification then uses half of it.
+    /// Element size of the search model (mm), overriding the fidelity's with
+    /// uniform meshes; verification then uses half of it.
     #[arg(long)]
     mesh_mm: Option<f64>,
     /// Write the run's state here after every generation; if the file exists,

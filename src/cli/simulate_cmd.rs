@@ -1,4 +1,5 @@
-//! `patchwork simulate DESIGN.json [--json] [--mesh-mm 2] [--rings 72] [--out DIR]`.
+//! `patchwork simulate DESIGN.json [--json] [--mesh-mm 2] [--straight-mm S] [--rings 72]
+//! [--out DIR]`.
 
 use std::path::PathBuf;
 
@@ -24,6 +25,10 @@ pub struct SimulateArgs {
     /// Element size (mm).
     #[arg(long, default_value_t = 2.0)]
     mesh_mm: f64,
+    /// Axial element size along bare stretches (mm): refine only where patches
+    /// are and at the ends (local refinement); omitted, the mesh is uniform.
+    #[arg(long)]
+    straight_mm: Option<f64>,
     /// Cross-section rings for the centreline.
     #[arg(long, default_value_t = 72)]
     rings: usize,
@@ -38,7 +43,10 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let design: Design = serde_json::from_str(&text)
         .with_context(|| format!("{}: invalid design JSON", args.design))?;
     let options = SimulateOptions {
-        mesh: MeshSpec::uniform(args.mesh_mm),
+        mesh: MeshSpec {
+            straight_mm: args.straight_mm,
+            ..MeshSpec::uniform(args.mesh_mm)
+        },
         rings: args.rings,
         ..SimulateOptions::default()
     };

@@ -108,6 +108,10 @@ pub struct SimulateRequest {
     design: Design,
     #[serde(default = "default_mesh")]
     mesh_mm: f64,
+    /// Axial element size along bare stretches (local refinement); absent:
+    /// uniform.
+    #[serde(default)]
+    straight_mm: Option<f64>,
     #[serde(default = "default_rings")]
     rings: usize,
 }
@@ -133,6 +137,14 @@ pub async fn simulate_route(
             format!("mesh_mm must be between {MIN_SYNC_MESH_MM} and 20 mm"),
         ));
     }
+    if let Some(straight) = body.straight_mm
+        && !(straight.is_finite() && straight >= body.mesh_mm && straight <= 100.0 * body.mesh_mm)
+    {
+        return Err(Problem::invalid(
+            "straight_mm",
+            "straight_mm must be between mesh_mm and 100 times mesh_mm",
+        ));
+    }
     if !(8..=2000).contains(&body.rings) {
         return Err(Problem::invalid(
             "rings",
@@ -141,7 +153,10 @@ pub async fn simulate_route(
     }
     let cap = state.config.simulate_time_limit;
     let mut options = SimulateOptions {
-        mesh: MeshSpec::uniform(body.mesh_mm),
+        mesh: MeshSpec {
+            straight_mm: body.straight_mm,
+            ..MeshSpec::uniform(body.mesh_mm)
+        },
         rings: body.rings,
         ..SimulateOptions::default()
     };

@@ -192,6 +192,13 @@ async fn bad_queries_headers_routes_and_quick_looks() {
         Some("mesh_mm"),
     )
     .await;
+    let straight = json!({"design": {"patches": []}, "mesh_mm": 2, "straight_mm": 1});
+    assert_problem(
+        api.post("/v1/simulate", &straight).await,
+        422,
+        Some("straight_mm"),
+    )
+    .await;
     let angle = json!({"design": {"patches": [{"x_mm": 0, "y_mm": 30, "h_mm": 20, "w_mm": 2, "theta_deg": 95}]}});
     assert_problem(
         api.post("/v1/simulate", &angle).await,

@@ -295,7 +295,10 @@ async fn quick_looks_and_operations_routes() {
     let design = json!({"balloon": {"length_mm": 60},
         "patches": [{"x_mm": 0, "y_mm": 30, "h_mm": 20, "w_mm": 2, "theta_deg": 0}]});
     let response = api
-        .post("/v1/simulate", &json!({"design": design, "mesh_mm": 3}))
+        .post(
+            "/v1/simulate",
+            &json!({"design": design, "mesh_mm": 3, "straight_mm": 6}),
+        )
         .await;
     assert_eq!(response.status(), 200);
     let sim: Value = response.json().await.unwrap();

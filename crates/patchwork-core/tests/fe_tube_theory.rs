@@ -130,6 +130,7 @@ fn check_fe(model: Model, material: Material, mu: f64, hoop: f64, label: &str) {
         mesh: MeshSpec {
             element_mm: 1.0,
             around: Some(40),
+            straight_mm: None,
         },
         ..SimulateOptions::default()
     };
@@ -215,6 +216,7 @@ fn reference_scene_bare_tube_at_20_kpa() {
         mesh: MeshSpec {
             element_mm: 2.0,
             around: Some(40),
+            straight_mm: None,
         },
         ..SimulateOptions::default()
     };

@@ -35,6 +35,7 @@ fn neo_hookean_pressure_maximum_by_volume_control() {
         mesh: MeshSpec {
             element_mm: 1.0,
             around: Some(40),
+            straight_mm: None,
         },
         rings: 25,
         ..SimulateOptions::default()

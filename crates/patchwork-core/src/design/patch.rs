@@ -22,4 +22,11 @@ impl Patch {
     pub fn theta(&self) -> f64 {
         self.theta_deg.to_radians()
     }
+
+    /// Half the axial extent of the rotated rectangle (mm):
+    /// (H·|cos Θ| + W·|sin Θ|)/2.
+    pub fn axial_half_extent(&self) -> f64 {
+        let (s, c) = self.theta().sin_cos();
+        0.5 * (self.h_mm * c.abs() + self.w_mm * s.abs())
+    }
 }

@@ -101,9 +101,7 @@ fn validate_patch(i: usize, p: &Patch, length: f64) -> Result<(), DesignError> {
             format!("must be within ±90°, got {}", p.theta_deg),
         ));
     }
-    // Axial half-extent of the rotated rectangle.
-    let (s, c) = p.theta().sin_cos();
-    let half = 0.5 * (p.h_mm * c.abs() + p.w_mm * s.abs());
+    let half = p.axial_half_extent();
     if p.y_mm + half <= 0.0 || p.y_mm - half >= length {
         return Err(error(
             field("y_mm"),

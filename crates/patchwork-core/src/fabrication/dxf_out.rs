@@ -4,7 +4,7 @@ use dxf::entities::{Entity, EntityType, Line, LwPolyline, Text};
 use dxf::enums::AcadVersion;
 use dxf::{Drawing, LwPolylineVertex, Point};
 
-use super::geometry::{cut_layout, patch_outline};
+use super::geometry::{cut_layout, sheet_pieces};
 use crate::design::Design;
 
 fn polygon(drawing: &mut Drawing, corners: &[[f64; 2]]) {
@@ -101,12 +101,8 @@ pub fn template_dxf(design: &Design) -> Result<Vec<u8>, String> {
         }
     }
     for (i, p) in design.patches.iter().enumerate() {
-        for shift in seam_images(p, c) {
-            let corners: Vec<[f64; 2]> = patch_outline(p)
-                .iter()
-                .map(|q| [q[0] + shift, q[1]])
-                .collect();
-            polygon(&mut drawing, &corners);
+        for piece in sheet_pieces(p, c, l) {
+            polygon(&mut drawing, &piece);
         }
         text(
             &mut drawing,
@@ -117,17 +113,4 @@ pub fn template_dxf(design: &Design) -> Result<Vec<u8>, String> {
         );
     }
     finish(drawing)
-}
-
-/// Shifts (0 and ±C where needed) at which a patch's outline meets [0, C].
-pub(super) fn seam_images(p: &crate::design::Patch, c: f64) -> Vec<f64> {
-    let xs: Vec<f64> = patch_outline(p).iter().map(|q| q[0]).collect();
-    let (lo, hi) = (
-        xs.iter().copied().fold(f64::INFINITY, f64::min),
-        xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-    );
-    [-c, 0.0, c]
-        .into_iter()
-        .filter(|s| hi + s > 0.0 && lo + s < c)
-        .collect()
 }

@@ -26,6 +26,65 @@ pub fn patch_outline(p: &Patch) -> [[f64; 2]; 4] {
     ]
 }
 
+/// The parts of a patch's outline that lie on the unrolled balloon
+/// `[0, C] × [0, L]`: the outline and its images shifted by ±C (a patch across
+/// the seam shows as two pieces, one at each edge), each clipped to the sheet
+/// (Sutherland–Hodgman against the four edges; the outline is convex, so each
+/// piece is one convex polygon). Pieces of no area are dropped.
+pub fn sheet_pieces(p: &Patch, circumference: f64, length: f64) -> Vec<Vec<[f64; 2]>> {
+    let outline = patch_outline(p);
+    [-circumference, 0.0, circumference]
+        .into_iter()
+        .filter_map(|shift| {
+            let mut piece: Vec<[f64; 2]> = outline.iter().map(|q| [q[0] + shift, q[1]]).collect();
+            // Each edge keeps the side where `inside` ≥ 0.
+            let edges: [(usize, f64, f64); 4] = [
+                (0, 1.0, 0.0),
+                (0, -1.0, circumference),
+                (1, 1.0, 0.0),
+                (1, -1.0, length),
+            ];
+            for (axis, sign, bound) in edges {
+                let inside = |q: &[f64; 2]| sign * (q[axis] - bound);
+                piece = clip(&piece, inside);
+            }
+            (area(&piece) > 1e-9).then_some(piece)
+        })
+        .collect()
+}
+
+/// One Sutherland–Hodgman pass: the part of `polygon` where `inside(q) ≥ 0`.
+fn clip(polygon: &[[f64; 2]], inside: impl Fn(&[f64; 2]) -> f64) -> Vec<[f64; 2]> {
+    let mut out = Vec::with_capacity(polygon.len() + 2);
+    for (i, a) in polygon.iter().enumerate() {
+        let b = &polygon[(i + 1) % polygon.len()];
+        let (da, db) = (inside(a), inside(b));
+        if da >= 0.0 {
+            out.push(*a);
+        }
+        if (da >= 0.0) != (db >= 0.0) {
+            let t = da / (da - db);
+            out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+        }
+    }
+    out
+}
+
+/// Area of a simple polygon (shoelace; 0 for fewer than three corners).
+pub fn area(polygon: &[[f64; 2]]) -> f64 {
+    let n = polygon.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let twice: f64 = (0..n)
+        .map(|i| {
+            let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+            a[0] * b[1] - b[0] * a[1]
+        })
+        .sum();
+    twice.abs() / 2.0
+}
+
 /// Where each patch outline goes on the cutting sheet: upright H × W rectangles
 /// on shelves no wider than `sheet_width`, never overlapping.
 #[derive(Debug, Clone, PartialEq)]
@@ -54,5 +113,51 @@ pub fn cut_layout(patches: &[Patch], sheet_width: f64) -> CutLayout {
         origins,
         width,
         height: y + shelf + GAP_MM,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn patch(x_mm: f64, y_mm: f64, theta_deg: f64) -> Patch {
+        Patch {
+            x_mm,
+            y_mm,
+            h_mm: 20.0,
+            w_mm: 3.0,
+            theta_deg,
+        }
+    }
+
+    fn within(piece: &[[f64; 2]], c: f64, l: f64) -> bool {
+        piece
+            .iter()
+            .all(|q| (-1e-9..=c + 1e-9).contains(&q[0]) && (-1e-9..=l + 1e-9).contains(&q[1]))
+    }
+
+    #[test]
+    fn a_patch_inside_the_sheet_is_one_whole_piece() {
+        let pieces = sheet_pieces(&patch(10.0, 50.0, 20.0), 20.0, 100.0);
+        assert_eq!(pieces.len(), 1);
+        assert!((area(&pieces[0]) - 60.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_patch_across_the_seam_splits_into_two_pieces_of_its_area() {
+        let (c, l) = (20.0, 100.0);
+        let pieces = sheet_pieces(&patch(0.5, 50.0, 30.0), c, l);
+        assert_eq!(pieces.len(), 2);
+        assert!(pieces.iter().all(|p| within(p, c, l)));
+        let total: f64 = pieces.iter().map(|p| area(p)).sum();
+        assert!((total - 60.0).abs() < 1e-9, "{total}");
+    }
+
+    #[test]
+    fn a_patch_off_the_end_is_clipped_to_the_balloon() {
+        let pieces = sheet_pieces(&patch(10.0, 95.0, 0.0), 20.0, 100.0);
+        assert_eq!(pieces.len(), 1);
+        assert!(within(&pieces[0], 20.0, 100.0));
+        assert!((area(&pieces[0]) - 15.0 * 3.0).abs() < 1e-9);
     }
 }

@@ -3,8 +3,7 @@
 
 use std::fmt::Write;
 
-use super::dxf_out::seam_images;
-use super::geometry::patch_outline;
+use super::geometry::sheet_pieces;
 use crate::design::Design;
 
 /// `template.svg`: as `template.dxf`, in an SVG whose user unit is 1 mm.
@@ -29,10 +28,10 @@ pub fn template_svg(design: &Design) -> String {
         let _ = write!(s, r#"<line x1="{}" y1="{y}" x2="0" y2="{y}"/>"#, -tick);
     }
     for p in &design.patches {
-        for shift in seam_images(p, c) {
-            let points: Vec<String> = patch_outline(p)
+        for piece in sheet_pieces(p, c, l) {
+            let points: Vec<String> = piece
                 .iter()
-                .map(|q| format!("{:.3},{:.3}", q[0] + shift, q[1]))
+                .map(|q| format!("{:.3},{:.3}", q[0], q[1]))
                 .collect();
             let _ = write!(
                 s,

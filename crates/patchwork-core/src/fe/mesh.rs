@@ -8,7 +8,9 @@
 
 use std::f64::consts::{FRAC_PI_2, TAU};
 
+use super::grading::{fine_zones, graded_rings};
 use crate::curve::Point;
+use crate::design::Design;
 
 /// Mesh resolution.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,6 +22,10 @@ pub struct MeshSpec {
     /// the circle's by a relative 1 − sin(2π/n)/(2π/n) (6.5 % at n = 10, 1.1 % at
     /// 24), which sets the accuracy of a uniform tube's axial stretch.
     pub around: Option<usize>,
+    /// Axial element length along bare stretches (mm); `None` meshes the whole
+    /// tube with `element_mm`. With a value, `element_mm` applies only where
+    /// patches are and at both ends (see `grading`).
+    pub straight_mm: Option<f64>,
 }
 
 impl MeshSpec {
@@ -27,7 +33,41 @@ impl MeshSpec {
         MeshSpec {
             element_mm,
             around: None,
+            straight_mm: None,
         }
+    }
+
+    /// Nodes around a circumference of radius `radius` for edges of about `h`
+    /// (at least 8).
+    pub fn around_for(radius: f64, h: f64) -> usize {
+        ((TAU * radius / h).round() as usize).max(8)
+    }
+
+    /// `element_mm` under patches and at the ends, `straight_mm` between.
+    pub fn graded(element_mm: f64, straight_mm: f64) -> MeshSpec {
+        MeshSpec {
+            straight_mm: Some(straight_mm),
+            ..MeshSpec::uniform(element_mm)
+        }
+    }
+
+    /// Checks the sizes against the balloon's radius; the message names the
+    /// offending size.
+    pub fn validate(&self, radius_mm: f64) -> Result<(), String> {
+        let h = self.element_mm;
+        if !(h.is_finite() && h > 0.0 && h <= radius_mm * 2.0) {
+            return Err(format!(
+                "mesh element size {h} mm must be positive and at most the balloon diameter"
+            ));
+        }
+        if let Some(s) = self.straight_mm
+            && !(s.is_finite() && s >= h && s <= 100.0 * h)
+        {
+            return Err(format!(
+                "straight-stretch element size {s} mm must be between the element size {h} mm and 100 times it"
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -51,12 +91,35 @@ pub struct TubeMesh {
 }
 
 impl TubeMesh {
+    /// The mesh `spec` asks for on `design`'s balloon: uniform, or graded with
+    /// fine zones around the design's patches.
+    pub fn for_design(design: &Design, spec: MeshSpec) -> TubeMesh {
+        let b = &design.balloon;
+        match spec.straight_mm {
+            Some(coarse) if coarse > spec.element_mm => {
+                let zones = fine_zones(design, coarse);
+                let ring_y = graded_rings(b.length_mm, &zones, spec.element_mm, coarse);
+                let around = spec
+                    .around
+                    .unwrap_or_else(|| MeshSpec::around_for(b.radius_mm, spec.element_mm));
+                Self::with_rings(
+                    b.radius_mm,
+                    b.length_mm,
+                    around.max(8),
+                    ring_y,
+                    spec.element_mm,
+                )
+            }
+            _ => TubeMesh::new(b.radius_mm, b.length_mm, spec),
+        }
+    }
+
     /// Uniform mesh with about `spec.element_mm` edges (at least 8 around).
     pub fn new(radius: f64, length: f64, spec: MeshSpec) -> TubeMesh {
         let h = spec.element_mm;
         let around = spec
             .around
-            .unwrap_or(((TAU * radius / h).round() as usize).max(8))
+            .unwrap_or_else(|| MeshSpec::around_for(radius, h))
             .max(8);
         let segments = ((length / h).round() as usize).max(2);
         let ring_y: Vec<f64> = (0..=segments)

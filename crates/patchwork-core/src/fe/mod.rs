@@ -13,6 +13,7 @@
 pub mod centreline;
 pub mod element;
 pub mod export;
+pub mod grading;
 pub mod kinematic;
 pub mod mesh;
 pub mod model;

@@ -3,7 +3,7 @@
 
 use std::time::{Duration, Instant};
 
-use super::centreline::{Ring, rings};
+use super::centreline::{Ring, ring_points, rings};
 use super::kinematic::kinematic_state;
 use super::mesh::{MeshSpec, TubeMesh};
 use super::model::Model;
@@ -96,8 +96,9 @@ pub fn simulate(design: &Design, options: &SimulateOptions) -> Result<Simulation
 
 /// Simulates `design`, warm-started from `previous` — the converged state of a
 /// nearby design on the same mesh (same balloon and element size), as in a
-/// design loop. Falls back to the cold start if the meshes differ or the warm
-/// solve fails.
+/// design loop. The state is carried across a graded mesh whose fine zones
+/// moved; the cold start is the fallback if the meshes are incompatible or the
+/// warm solve fails.
 pub fn simulate_from(
     design: &Design,
     options: &SimulateOptions,
@@ -105,12 +106,10 @@ pub fn simulate_from(
 ) -> Result<Simulation, SimulateError> {
     let started = Instant::now();
     design.validate()?;
-    let h = options.mesh.element_mm;
-    if !(h.is_finite() && h > 0.0 && h <= design.balloon.radius_mm * 2.0) {
-        return Err(SimulateError::Options(format!(
-            "mesh element size {h} mm must be positive and at most the balloon diameter"
-        )));
-    }
+    options
+        .mesh
+        .validate(design.balloon.radius_mm)
+        .map_err(SimulateError::Options)?;
     if !(2..=10_000).contains(&options.rings) {
         return Err(SimulateError::Options(format!(
             "rings = {} must be between 2 and 10000",
@@ -122,7 +121,7 @@ pub fn simulate_from(
         .ok_or(SimulateError::NoTubeState {
             pressure_kpa: design.pressure_kpa,
         })?;
-    let mesh = TubeMesh::new(b.radius_mm, b.length_mm, options.mesh);
+    let mesh = TubeMesh::for_design(design, options.mesh);
     let model = Model::new(design, mesh);
     let solver = Solver::new(&model).map_err(|reason| SimulateError::Solve {
         stiffness: 0.0,
@@ -130,11 +129,10 @@ pub fn simulate_from(
     })?;
     let mut stats = SolveStats::default();
     let mut steps = 0;
-    if let Some(previous) = previous.filter(|p| same_mesh(&p.mesh, &model.mesh)) {
-        let mut x = previous.positions.clone();
-        if let Ok(s) = solver.solve(&model, &model.layers, &mut x, &options.newton) {
-            return finish(design, options, model, x, tube_state, s, 1, started);
-        }
+    if let Some(mut x) = previous.and_then(|p| carried_state(p, &model.mesh))
+        && let Ok(s) = solver.solve(&model, &model.layers, &mut x, &options.newton)
+    {
+        return finish(design, options, model, x, tube_state, s, 1, started);
     }
     // First try the kinematic (bent) start at full patch stiffness; if Newton
     // fails from there, fall back to the straight tube and continuation.
@@ -224,11 +222,32 @@ fn finish(
     })
 }
 
-fn same_mesh(a: &TubeMesh, b: &TubeMesh) -> bool {
-    a.nodes.len() == b.nodes.len()
-        && a.around == b.around
-        && a.ring_y == b.ring_y
-        && a.radius == b.radius
+/// `previous`'s converged positions carried onto `mesh`, if the two meshes
+/// share the balloon, the cross-section and the cap: as they are on the same
+/// rings; otherwise each new ring interpolated between the old rings around it
+/// (a graded mesh whose fine zones moved with the patches — exact along the
+/// straight stretches, where the rings are coarse).
+fn carried_state(previous: &Simulation, mesh: &TubeMesh) -> Option<Vec<Point>> {
+    let old = &previous.mesh;
+    let tube_nodes = |m: &TubeMesh| m.ring_y.len() * m.around;
+    let compatible = old.around == mesh.around
+        && old.radius == mesh.radius
+        && old.length == mesh.length
+        && old.nodes.len() - tube_nodes(old) == mesh.nodes.len() - tube_nodes(mesh);
+    if !compatible {
+        return None;
+    }
+    if old.ring_y == mesh.ring_y {
+        return Some(previous.positions.clone());
+    }
+    let x = &previous.positions;
+    let mut carried: Vec<Point> = mesh
+        .ring_y
+        .iter()
+        .flat_map(|&y| ring_points(old, x, y))
+        .collect();
+    carried.extend_from_slice(&x[tube_nodes(old)..]);
+    Some(carried)
 }
 
 /// The bare tube's uniform state mapped onto the mesh, shaped so every element

@@ -12,24 +12,39 @@ use crate::fe::mesh::MeshSpec;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Fidelity {
-    /// Search on 3 mm elements, verify on 2 mm: a quick look.
+    /// Search on 3 mm rings, verify on 1 mm: a quick look.
     Draft,
     /// Search on 2 mm elements, verify on 1 mm.
     #[default]
     Standard,
-    /// Search on 1 mm elements, verify on 0.5 mm.
+    /// Search on 1 mm elements with twice standard's budget, verify on a
+    /// uniform 0.5 mm mesh.
     Fine,
 }
 
 impl Fidelity {
     pub const NAMES: [&'static str; 3] = ["draft", "standard", "fine"];
 
-    /// Element sizes (mm) of the search and the verification model.
-    pub fn element_sizes(self) -> (f64, f64) {
+    /// Meshes of the search and the verification model for a balloon of
+    /// radius `radius_mm`. All but fine's verification are graded (fine under
+    /// patches and at the ends, coarse along bare stretches: no loss of
+    /// accuracy there, most of a sparse balloon's unknowns saved). The search
+    /// meshes keep the 2 mm cross-section (10 sides on the reference balloon):
+    /// a 1 mm section is more accurate but makes each factorisation about 5×
+    /// dearer, which no preset but fine can afford.
+    pub fn meshes(self, radius_mm: f64) -> (MeshSpec, MeshSpec) {
+        let around_2mm = Some(MeshSpec::around_for(radius_mm, 2.0));
         match self {
-            Fidelity::Draft => (3.0, 2.0),
-            Fidelity::Standard => (2.0, 1.0),
-            Fidelity::Fine => (1.0, 0.5),
+            Fidelity::Draft => (
+                MeshSpec {
+                    element_mm: 3.0,
+                    around: around_2mm,
+                    straight_mm: Some(6.0),
+                },
+                MeshSpec::graded(1.0, 4.0),
+            ),
+            Fidelity::Standard => (MeshSpec::graded(2.0, 6.0), MeshSpec::graded(1.0, 4.0)),
+            Fidelity::Fine => (MeshSpec::graded(1.0, 4.0), MeshSpec::uniform(0.5)),
         }
     }
 
@@ -42,11 +57,10 @@ impl Fidelity {
         }
     }
 
-    /// Sets the meshes of `request` (its budget is the caller's choice).
+    /// Sets the meshes of `request` for its balloon (set `request.base`
+    /// first; the budget is the caller's choice).
     pub fn apply(self, request: &mut DesignRequest) {
-        let (search, verify) = self.element_sizes();
-        request.search_mesh = MeshSpec::uniform(search);
-        request.verify_mesh = MeshSpec::uniform(verify);
+        (request.search_mesh, request.verify_mesh) = self.meshes(request.base.balloon.radius_mm);
     }
 }
 

@@ -12,7 +12,7 @@ pub use fidelity::Fidelity;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use pipeline::{
     DesignCheckpoint, DesignHooks, DesignOutcome, DesignProgress, DesignRequest, DesignRunError,
-    Metrics, Stage, design, design_resumable,
+    Metrics, Stage, assess, design, design_resumable,
 };
 pub use report::DesignReport;
 pub use variables::{DesignSpace, Freedom, VariableBounds};

@@ -471,6 +471,24 @@ fn seed(
     Ok(ksa(target, &params).map_err(DesignRunError::Ksa)?.patches)
 }
 
+/// Metrics of `design` against `target` on a model of the caller's choice —
+/// to compare designs found at different fidelities on one common model.
+pub fn assess(
+    target: &Curve,
+    design: &Design,
+    mesh: MeshSpec,
+    request: &DesignRequest,
+) -> Result<Metrics, SimulateError> {
+    let options = SimulateOptions {
+        mesh,
+        rings: request.rings,
+        ..SimulateOptions::default()
+    };
+    let simulation = simulate(design, &options)?;
+    let profiles = TargetProfiles::new(target, request.rings, &request.objective);
+    Ok(verified(&profiles, &simulation, &request.objective).0)
+}
+
 /// Metrics and profiles of the verified simulation, each computed once.
 fn verified(
     target: &TargetProfiles,
