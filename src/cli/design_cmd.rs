@@ -1,4 +1,4 @@
-//! `patchwork design CURVE --out DIR [--seed S] [--budget EVALS] [--threads N] [--json]
+//! `patchwork design CURVE --out DIR [--seed S] [--budget EVALS] [--polish EVALS] [--threads N] [--json]
 //! [--fidelity draft|standard|fine]`.
 
 use std::io::IsTerminal;
@@ -34,6 +34,11 @@ pub struct DesignArgs {
     /// 200/600/1200 for draft/standard/fine).
     #[arg(long)]
     budget: Option<usize>,
+    /// Evaluations of a coarse-to-fine polish: a short CMA-ES run on the
+    /// verification model after the search (0, the default: none; 40 did not
+    /// lower the median round-trip error, see BENCHMARKS.md).
+    #[arg(long, default_value_t = 0)]
+    polish: usize,
     /// Threads evaluating a generation in parallel.
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
     threads: usize,
@@ -100,6 +105,7 @@ pub fn run(args: DesignArgs) -> Result<()> {
         ..DesignRequest::default()
     };
     args.fidelity.apply(&mut request);
+    request.polish_budget = args.polish;
     if let Some(mesh_mm) = args.mesh_mm {
         anyhow::ensure!(
             mesh_mm.is_finite() && mesh_mm > 0.0,
@@ -140,11 +146,17 @@ pub fn run(args: DesignArgs) -> Result<()> {
             let stage = match p.stage {
                 Stage::Seed => "seed  ",
                 Stage::Search => "search",
+                Stage::Polish => "polish",
                 Stage::Verify => "verify",
             };
             eprint!(
                 "\r{stage} generation {:>4}  evaluations {:>5}/{}  best {:>9.5}  σ {:.3}  {:>6.1} s ",
-                p.generation, p.evaluations, budget, p.best_objective, p.sigma, p.elapsed_s
+                p.generation,
+                p.evaluations,
+                budget + request.polish_budget,
+                p.best_objective,
+                p.sigma,
+                p.elapsed_s
             );
         }
     };

@@ -191,6 +191,55 @@ fn a_run_resumes_from_a_serialised_checkpoint() {
     assert_eq!(resumed.design.balloon, whole.design.balloon);
 }
 
+/// The coarse-to-fine polish runs on the verification model after the search,
+/// within its own budget, and never returns a design worse on that model than
+/// the search's best (its incumbent starts there).
+#[test]
+fn polish_stage_runs_on_the_verification_model() {
+    let (base, target) = one_patch_target(
+        80.0,
+        Patch {
+            x_mm: 0.0,
+            y_mm: 40.0,
+            h_mm: 15.0,
+            w_mm: 2.5,
+            theta_deg: 10.0,
+        },
+    );
+    let unpolished = DesignRequest {
+        base,
+        fix_length: true,
+        budget: 30,
+        threads: 2,
+        search_mesh: MeshSpec::uniform(3.0),
+        verify_mesh: MeshSpec::uniform(2.0),
+        ..DesignRequest::default()
+    };
+    let polished = DesignRequest {
+        polish_budget: 20,
+        ..unpolished.clone()
+    };
+    let run = |request: &DesignRequest| {
+        let mut stages = Vec::new();
+        let outcome = design(&target, request, &AtomicBool::new(false), &mut |p| {
+            stages.push(p.stage)
+        })
+        .unwrap();
+        (outcome, stages)
+    };
+    let (before, stages) = run(&unpolished);
+    assert!(!stages.contains(&Stage::Polish));
+    let (after, stages) = run(&polished);
+    assert!(stages.contains(&Stage::Polish));
+    println!(
+        "objective on the verification model: search only {:.4} ({} evaluations), with polish {:.4} ({})",
+        before.metrics.objective, before.evaluations, after.metrics.objective, after.evaluations
+    );
+    assert!(after.evaluations > before.evaluations);
+    assert!(after.evaluations <= before.evaluations + 20);
+    assert!(after.metrics.objective <= before.metrics.objective + 1e-12);
+}
+
 /// Issue 4's round-trip evidence: ten random feasible designs (seed 2026) on a
 /// 150 mm balloon → simulate (the draft preset's verification model) → design
 /// from that centreline alone (balloon length from mechanics, draft preset,

@@ -3,8 +3,10 @@
 //! pipeline.
 
 pub mod fidelity;
+mod incumbent;
 pub mod objective;
 pub mod pipeline;
+mod polish;
 pub mod report;
 pub mod variables;
 

@@ -2,12 +2,13 @@
 //! verification of the best design on a finer mesh.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
+use super::incumbent::{Incumbent, Scorer, score};
 use super::objective::{ObjectiveOptions, TargetProfiles};
+use super::polish::polish;
 use super::report::Profiles;
 use super::variables::{DesignSpace, Freedom, VariableBounds, VariableError};
 use crate::cmaes::{Bounds, Optimizer, RunOptions, Termination};
@@ -15,7 +16,7 @@ use crate::curve::{Curve, dtw, shape_error};
 use crate::design::{Design, DesignError, Patch};
 use crate::fe::mesh::MeshSpec;
 use crate::fe::tube_theory::inflate_tube;
-use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate, simulate_from};
+use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate};
 use crate::ksa::{KsaError, KsaParams, Stretch, ksa};
 
 /// Objective value given to a candidate whose forward solve failed: worse than
@@ -47,6 +48,11 @@ pub struct DesignRequest {
     /// Start each search solve from the best design's inflated state (on by
     /// default; off only to measure what it saves).
     pub warm_starts: bool,
+    /// Evaluations of the coarse-to-fine polish: after the search, a short
+    /// CMA-ES run on the verification model from the search's best design
+    /// (0: none). The search model is coarser and bends the tube differently;
+    /// the polish corrects for that. Not checkpointed: a resumed run repeats it.
+    pub polish_budget: usize,
 }
 
 impl Default for DesignRequest {
@@ -67,6 +73,7 @@ impl Default for DesignRequest {
             merge_mm: 20.0,
             width_mm: 1.5,
             warm_starts: true,
+            polish_budget: 0,
         }
     }
 }
@@ -77,6 +84,8 @@ impl Default for DesignRequest {
 pub enum Stage {
     Seed,
     Search,
+    /// The coarse-to-fine polish on the verification model.
+    Polish,
     Verify,
 }
 
@@ -233,14 +242,17 @@ pub fn design_resumable(
         ..SimulateOptions::default()
     };
     let profiles = TargetProfiles::new(target, request.rings, &request.objective);
-    let evaluate = |design: &Design, warm: Option<&Simulation>| -> (f64, Option<Simulation>) {
-        match simulate_from(design, &search, warm) {
-            Ok(sim) => (
-                profiles.objective(&sim.centreline, &request.objective),
-                Some(sim),
-            ),
-            Err(_) => (FAILED_SOLVE_PENALTY, None),
-        }
+    let scorer = |space, base, model| Scorer {
+        space,
+        base,
+        model,
+        profiles: &profiles,
+        objective: &request.objective,
+        warm_starts: request.warm_starts,
+        cancel,
+    };
+    let evaluate = |design: &Design, warm: Option<&Simulation>| {
+        score(design, &search, &profiles, &request.objective, warm)
     };
 
     let (mut state, warm_start) = match resume {
@@ -293,33 +305,10 @@ pub fn design_resumable(
     .map_err(DesignRunError::Variables)?;
     let mut termination = Termination::MaxEvaluations;
     if space.dimension() > 0 && request.budget > 1 {
-        let warm: Mutex<Option<Arc<Simulation>>> = Mutex::new(warm_start.map(Arc::new));
-        let incumbent: Mutex<(f64, Vec<Patch>)> =
-            Mutex::new((state.best_objective, state.best_patches.clone()));
-        let objective = |u: &[f64]| -> f64 {
-            if cancel.load(Ordering::Relaxed) {
-                return f64::INFINITY;
-            }
-            let candidate = Design {
-                patches: space.patches(u),
-                ..base.clone()
-            };
-            let start = if request.warm_starts {
-                warm.lock().ok().and_then(|w| w.clone())
-            } else {
-                None
-            };
-            let (f, sim) = evaluate(&candidate, start.as_deref());
-            if let (Some(sim), Ok(mut best)) = (sim, incumbent.lock())
-                && f < best.0
-            {
-                *best = (f, candidate.patches.clone());
-                if let Ok(mut w) = warm.lock() {
-                    *w = Some(Arc::new(sim));
-                }
-            }
-            f
-        };
+        let incumbent =
+            Incumbent::new(state.best_objective, state.best_patches.clone(), warm_start);
+        let stage = scorer(&space, &base, &search);
+        let objective = |u: &[f64]| stage.evaluate(u, &incumbent);
         // The optimiser lives in the checkpoint state, so what is checkpointed
         // is what runs.
         let ended = loop {
@@ -336,10 +325,7 @@ pub fn design_resumable(
             if cancel.load(Ordering::Relaxed) {
                 return Err(DesignRunError::Cancelled);
             }
-            if let Ok(found) = incumbent.lock() {
-                state.best_objective = found.0;
-                state.best_patches = found.1.clone();
-            }
+            (state.best_objective, state.best_patches) = incumbent.best();
             report(
                 Stage::Search,
                 generation,
@@ -357,10 +343,36 @@ pub fn design_resumable(
         termination = ended;
     }
 
-    let best = Design {
+    let mut best = Design {
         patches: state.best_patches.clone(),
         ..base.clone()
     };
+    if space.dimension() > 0 && request.polish_budget > 1 {
+        let start = match &state.optimizer {
+            Some(o) if o.best_fitness <= state.best_objective => o.best_x.clone(),
+            _ => space.seed_point(),
+        };
+        let spent = state.evaluations;
+        let polished = polish(
+            &scorer(&space, &base, &verify),
+            start,
+            request.polish_budget,
+            request.seed.wrapping_add(1),
+            request.threads,
+            &mut |generation, evaluations, best, sigma| {
+                report(
+                    Stage::Polish,
+                    generation,
+                    spent + evaluations,
+                    best,
+                    sigma,
+                    observer,
+                )
+            },
+        )?;
+        best.patches = polished.patches;
+        state.evaluations += polished.evaluations;
+    }
     report(
         Stage::Verify,
         0,
@@ -369,7 +381,15 @@ pub fn design_resumable(
         0.0,
         observer,
     );
-    let simulation = simulate(&best, &verify).map_err(DesignRunError::Verify)?;
+    let mut simulation = simulate(&best, &verify).map_err(DesignRunError::Verify)?;
+    // The length was chosen for the seed; the best design's patches stretch
+    // differently. Correct it once more (patch positions and lengths scale
+    // with it) and verify the corrected design.
+    let ratio = target.length() / simulation.inflated_length_mm;
+    if !request.fix_length && (ratio - 1.0).abs() > LENGTH_TOLERANCE {
+        stretch_balloon(&mut best, ratio);
+        simulation = simulate(&best, &verify).map_err(DesignRunError::Verify)?;
+    }
     let (metrics, profiles) = verified(&profiles, &simulation, &request.objective);
     Ok(DesignOutcome {
         profiles,
@@ -437,12 +457,9 @@ fn seeded_balloon(
         };
         trial.balloon.length_mm = length;
         let sim = simulate(&trial, verify).map_err(DesignRunError::Seed)?;
-        let ratio = target_length / sim.inflated_length_mm;
-        length *= ratio;
-        for p in &mut seed_patches {
-            p.y_mm *= ratio;
-            p.h_mm *= ratio;
-        }
+        stretch_balloon(&mut trial, target_length / sim.inflated_length_mm);
+        length = trial.balloon.length_mm;
+        seed_patches = trial.patches;
     }
     let mut seeded = Design {
         patches: seed_patches,
@@ -469,6 +486,19 @@ fn seed(
         ..KsaParams::default()
     };
     Ok(ksa(target, &params).map_err(DesignRunError::Ksa)?.patches)
+}
+
+/// Relative mismatch of inflated and target length left uncorrected.
+const LENGTH_TOLERANCE: f64 = 1e-3;
+
+/// Scales the balloon's length by `ratio`, and the patches' axial positions
+/// and lengths with it.
+fn stretch_balloon(design: &mut Design, ratio: f64) {
+    design.balloon.length_mm *= ratio;
+    for p in &mut design.patches {
+        p.y_mm *= ratio;
+        p.h_mm *= ratio;
+    }
 }
 
 /// Metrics of `design` against `target` on a model of the caller's choice —

@@ -1,0 +1,99 @@
+//! The objective a CMA-ES stage minimises, with its incumbent: every candidate
+//! is simulated (warm-started from the incumbent's inflated state when warm
+//! starts are on), scored against the target's profiles, and becomes the
+//! incumbent if it beats it. Shared by the search and the polish stages, which
+//! differ only in the model.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+
+use super::objective::{ObjectiveOptions, TargetProfiles};
+use super::pipeline::FAILED_SOLVE_PENALTY;
+use super::variables::DesignSpace;
+use crate::design::{Design, Patch};
+use crate::fe::{SimulateOptions, Simulation, simulate_from};
+
+/// What a stage evaluates candidates with.
+pub(super) struct Scorer<'a> {
+    pub space: &'a DesignSpace,
+    /// Balloon, materials and pressure; its patches are ignored.
+    pub base: &'a Design,
+    pub model: &'a SimulateOptions,
+    pub profiles: &'a TargetProfiles,
+    pub objective: &'a ObjectiveOptions,
+    pub warm_starts: bool,
+    pub cancel: &'a AtomicBool,
+}
+
+/// The best design of a stage so far and its inflated state.
+pub(super) struct Incumbent {
+    best: Mutex<(f64, Vec<Patch>)>,
+    warm: Mutex<Option<Arc<Simulation>>>,
+}
+
+impl Scorer<'_> {
+    /// Objective of `design` on this stage's model, and its simulation.
+    pub fn score(&self, design: &Design, warm: Option<&Simulation>) -> (f64, Option<Simulation>) {
+        score(design, self.model, self.profiles, self.objective, warm)
+    }
+
+    /// The candidate at unit-cube point `u`: simulated, scored, and made the
+    /// incumbent if better. Infinite once cancelled (the caller drops that
+    /// generation).
+    pub fn evaluate(&self, u: &[f64], incumbent: &Incumbent) -> f64 {
+        if self.cancel.load(Ordering::Relaxed) {
+            return f64::INFINITY;
+        }
+        let candidate = Design {
+            patches: self.space.patches(u),
+            ..self.base.clone()
+        };
+        let start = if self.warm_starts {
+            incumbent.warm.lock().ok().and_then(|w| w.clone())
+        } else {
+            None
+        };
+        let (f, sim) = self.score(&candidate, start.as_deref());
+        if let (Some(sim), Ok(mut best)) = (sim, incumbent.best.lock())
+            && f < best.0
+        {
+            *best = (f, candidate.patches);
+            if let Ok(mut w) = incumbent.warm.lock() {
+                *w = Some(Arc::new(sim));
+            }
+        }
+        f
+    }
+}
+
+/// Objective of `design` on `model` and its simulation (the failed-solve
+/// penalty and none if the solve fails).
+pub(super) fn score(
+    design: &Design,
+    model: &SimulateOptions,
+    profiles: &TargetProfiles,
+    objective: &ObjectiveOptions,
+    warm: Option<&Simulation>,
+) -> (f64, Option<Simulation>) {
+    match simulate_from(design, model, warm) {
+        Ok(sim) => (profiles.objective(&sim.centreline, objective), Some(sim)),
+        Err(_) => (FAILED_SOLVE_PENALTY, None),
+    }
+}
+
+impl Incumbent {
+    pub fn new(objective: f64, patches: Vec<Patch>, state: Option<Simulation>) -> Incumbent {
+        Incumbent {
+            best: Mutex::new((objective, patches)),
+            warm: Mutex::new(state.map(Arc::new)),
+        }
+    }
+
+    /// The best objective and design so far.
+    pub fn best(&self) -> (f64, Vec<Patch>) {
+        self.best
+            .lock()
+            .map(|b| b.clone())
+            .unwrap_or((f64::INFINITY, Vec::new()))
+    }
+}
