@@ -37,6 +37,20 @@ fn one_patch_target(length_mm: f64, patch: Patch) -> (Design, Curve) {
     (base, target)
 }
 
+/// A quick case: one patch on an 80 mm balloon.
+fn small_target() -> (Design, Curve) {
+    one_patch_target(
+        80.0,
+        Patch {
+            x_mm: 0.0,
+            y_mm: 40.0,
+            h_mm: 15.0,
+            w_mm: 2.5,
+            theta_deg: 10.0,
+        },
+    )
+}
+
 #[test]
 fn one_patch_round_trip_recovers_the_design() {
     let truth = Patch {
@@ -125,16 +139,7 @@ fn cancellation_stops_the_run() {
 #[test]
 fn a_run_resumes_from_a_serialised_checkpoint() {
     use patchwork_core::inverse::{DesignCheckpoint, DesignHooks, design_resumable};
-    let (base, target) = one_patch_target(
-        80.0,
-        Patch {
-            x_mm: 0.0,
-            y_mm: 40.0,
-            h_mm: 15.0,
-            w_mm: 2.5,
-            theta_deg: 10.0,
-        },
-    );
+    let (base, target) = small_target();
     let request = DesignRequest {
         base,
         fix_length: true,
@@ -196,16 +201,7 @@ fn a_run_resumes_from_a_serialised_checkpoint() {
 /// the search's best (its incumbent starts there).
 #[test]
 fn polish_stage_runs_on_the_verification_model() {
-    let (base, target) = one_patch_target(
-        80.0,
-        Patch {
-            x_mm: 0.0,
-            y_mm: 40.0,
-            h_mm: 15.0,
-            w_mm: 2.5,
-            theta_deg: 10.0,
-        },
-    );
+    let (base, target) = small_target();
     let unpolished = DesignRequest {
         base,
         fix_length: true,

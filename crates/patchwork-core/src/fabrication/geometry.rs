@@ -1,4 +1,5 @@
 use crate::design::Patch;
+use crate::fe::overlap::{area, clip};
 
 /// Gap between cut outlines and around the sheet (mm).
 const GAP_MM: f64 = 4.0;
@@ -37,52 +38,19 @@ pub fn sheet_pieces(p: &Patch, circumference: f64, length: f64) -> Vec<Vec<[f64;
         .into_iter()
         .filter_map(|shift| {
             let mut piece: Vec<[f64; 2]> = outline.iter().map(|q| [q[0] + shift, q[1]]).collect();
-            // Each edge keeps the side where `inside` ≥ 0.
-            let edges: [(usize, f64, f64); 4] = [
-                (0, 1.0, 0.0),
-                (0, -1.0, circumference),
-                (1, 1.0, 0.0),
-                (1, -1.0, length),
+            // The sheet as four half-planes n·p ≤ offset.
+            let edges = [
+                ([-1.0, 0.0], 0.0),
+                ([1.0, 0.0], circumference),
+                ([0.0, -1.0], 0.0),
+                ([0.0, 1.0], length),
             ];
-            for (axis, sign, bound) in edges {
-                let inside = |q: &[f64; 2]| sign * (q[axis] - bound);
-                piece = clip(&piece, inside);
+            for (normal, offset) in edges {
+                piece = clip(&piece, normal, offset);
             }
             (area(&piece) > 1e-9).then_some(piece)
         })
         .collect()
-}
-
-/// One Sutherland–Hodgman pass: the part of `polygon` where `inside(q) ≥ 0`.
-fn clip(polygon: &[[f64; 2]], inside: impl Fn(&[f64; 2]) -> f64) -> Vec<[f64; 2]> {
-    let mut out = Vec::with_capacity(polygon.len() + 2);
-    for (i, a) in polygon.iter().enumerate() {
-        let b = &polygon[(i + 1) % polygon.len()];
-        let (da, db) = (inside(a), inside(b));
-        if da >= 0.0 {
-            out.push(*a);
-        }
-        if (da >= 0.0) != (db >= 0.0) {
-            let t = da / (da - db);
-            out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
-        }
-    }
-    out
-}
-
-/// Area of a simple polygon (shoelace; 0 for fewer than three corners).
-pub fn area(polygon: &[[f64; 2]]) -> f64 {
-    let n = polygon.len();
-    if n < 3 {
-        return 0.0;
-    }
-    let twice: f64 = (0..n)
-        .map(|i| {
-            let (a, b) = (polygon[i], polygon[(i + 1) % n]);
-            a[0] * b[1] - b[0] * a[1]
-        })
-        .sum();
-    twice.abs() / 2.0
 }
 
 /// Where each patch outline goes on the cutting sheet: upright H × W rectangles

@@ -57,8 +57,9 @@ fn bounding_boxes_meet(tri: &[P2; 3], centre: P2, u: P2, v: P2, hh: f64, hw: f64
         && min_y <= centre[1] + ey
 }
 
-/// Clips a convex polygon to the half-plane n·p ≤ offset.
-fn clip(polygon: &[P2], n: P2, offset: f64) -> Vec<P2> {
+/// Clips a convex polygon to the half-plane n·p ≤ offset (one
+/// Sutherland–Hodgman pass).
+pub(crate) fn clip(polygon: &[P2], n: P2, offset: f64) -> Vec<P2> {
     let inside = |p: &P2| n[0] * p[0] + n[1] * p[1] - offset;
     let mut out = Vec::with_capacity(polygon.len() + 1);
     for i in 0..polygon.len() {
@@ -75,7 +76,8 @@ fn clip(polygon: &[P2], n: P2, offset: f64) -> Vec<P2> {
     out
 }
 
-fn area(polygon: &[P2]) -> f64 {
+/// Area of a simple polygon (shoelace; 0 for fewer than three corners).
+pub(crate) fn area(polygon: &[P2]) -> f64 {
     let n = polygon.len();
     if n < 3 {
         return 0.0;
