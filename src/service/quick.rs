@@ -138,7 +138,7 @@ pub async fn simulate_route(
         ));
     }
     if let Some(straight) = body.straight_mm
-        && !(straight.is_finite() && straight >= body.mesh_mm && straight <= 100.0 * body.mesh_mm)
+        && !MeshSpec::straight_fits(body.mesh_mm, straight)
     {
         return Err(Problem::invalid(
             "straight_mm",

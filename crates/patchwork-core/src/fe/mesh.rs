@@ -51,6 +51,12 @@ impl MeshSpec {
         }
     }
 
+    /// Whether `straight_mm` is a usable bare-stretch size for elements of
+    /// `element_mm`: from the element size up to 100 times it.
+    pub fn straight_fits(element_mm: f64, straight_mm: f64) -> bool {
+        straight_mm.is_finite() && straight_mm >= element_mm && straight_mm <= 100.0 * element_mm
+    }
+
     /// Checks the sizes against the balloon's radius; the message names the
     /// offending size.
     pub fn validate(&self, radius_mm: f64) -> Result<(), String> {
@@ -61,7 +67,7 @@ impl MeshSpec {
             ));
         }
         if let Some(s) = self.straight_mm
-            && !(s.is_finite() && s >= h && s <= 100.0 * h)
+            && !Self::straight_fits(h, s)
         {
             return Err(format!(
                 "straight-stretch element size {s} mm must be between the element size {h} mm and 100 times it"

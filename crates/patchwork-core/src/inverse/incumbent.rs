@@ -89,6 +89,21 @@ impl Incumbent {
         }
     }
 
+    /// The best design and its simulation on the stage's model (none if no
+    /// candidate solved).
+    pub fn into_best(self) -> (Vec<Patch>, Option<Simulation>) {
+        let patches = self
+            .best
+            .into_inner()
+            .map_or_else(|e| e.into_inner().1, |b| b.1);
+        let state = self
+            .warm
+            .into_inner()
+            .unwrap_or_else(|e| e.into_inner())
+            .map(Arc::unwrap_or_clone);
+        (patches, state)
+    }
+
     /// The best objective and design so far.
     pub fn best(&self) -> (f64, Vec<Patch>) {
         self.best

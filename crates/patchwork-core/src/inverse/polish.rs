@@ -11,14 +11,17 @@ use super::incumbent::{Incumbent, Scorer};
 use super::pipeline::DesignRunError;
 use crate::cmaes::{Bounds, Optimizer, RunOptions};
 use crate::design::{Design, Patch};
+use crate::fe::Simulation;
 
 /// Initial step of the polish in the unit cube (the search starts at 0.2).
 const POLISH_SIGMA: f64 = 0.05;
 
 /// The polish's result: the best design on the fine model (the start itself
-/// if nothing beat it) and the evaluations spent.
+/// if nothing beat it), its simulation there (reused as the verification),
+/// and the evaluations spent.
 pub(super) struct Polished {
     pub patches: Vec<Patch>,
+    pub simulation: Option<Simulation>,
     pub evaluations: usize,
 }
 
@@ -63,8 +66,11 @@ pub(super) fn polish(
             break;
         }
     }
+    let evaluations = 1 + optimizer.evaluations();
+    let (patches, simulation) = incumbent.into_best();
     Ok(Polished {
-        patches: incumbent.best().1,
-        evaluations: 1 + optimizer.evaluations(),
+        patches,
+        simulation,
+        evaluations,
     })
 }
