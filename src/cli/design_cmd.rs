@@ -11,8 +11,8 @@ use patchwork_core::design::Design;
 use patchwork_core::fabrication::design_files;
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::inverse::{
-    DesignCheckpoint, DesignHooks, DesignProgress, DesignReport, DesignRequest, Fidelity, Stage,
-    design_resumable,
+    DesignCheckpoint, DesignHooks, DesignProgress, DesignReport, DesignRequest, Fidelity,
+    INITIAL_STEP, ObjectiveOptions, Stage, design_resumable,
 };
 
 use super::input::{CurveInput, read_text_argument};
@@ -35,10 +35,22 @@ pub struct DesignArgs {
     #[arg(long)]
     budget: Option<usize>,
     /// Evaluations of a coarse-to-fine polish: a short CMA-ES run on the
-    /// verification model after the search (0, the default: none; 40 did not
-    /// lower the median round-trip error, see BENCHMARKS.md).
-    #[arg(long, default_value_t = 0)]
-    polish: usize,
+    /// verification model after the search (default: the fidelity's, 0/60/120
+    /// for draft/standard/fine; `--polish 60` with draft took ten round trips
+    /// from a median 0.55 % to 0.22 % shape error, see BENCHMARKS.md).
+    #[arg(long)]
+    polish: Option<usize>,
+    /// Weight of the shape error (aligned RMS distance / curve length) added
+    /// to the κ/τ mismatch in the objective; 0 leaves it out.
+    #[arg(long, default_value_t = ObjectiveOptions::default().shape_weight)]
+    shape_weight: f64,
+    /// Use the squared form of the κ/τ mismatch (the paper's) instead of the
+    /// authors' code's sum of norms.
+    #[arg(long)]
+    squared: bool,
+    /// CMA-ES's initial step as a fraction of each variable's range.
+    #[arg(long, default_value_t = INITIAL_STEP)]
+    initial_step: f64,
     /// Threads evaluating a generation in parallel.
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
     threads: usize,
@@ -105,7 +117,20 @@ pub fn run(args: DesignArgs) -> Result<()> {
         ..DesignRequest::default()
     };
     args.fidelity.apply(&mut request);
-    request.polish_budget = args.polish;
+    if let Some(polish) = args.polish {
+        request.polish_budget = polish;
+    }
+    request.initial_step = args.initial_step;
+    request.objective.shape_weight = args.shape_weight;
+    request.objective.squared = args.squared;
+    // Checked before the output folder is created: a bad option changes nothing.
+    request.validate_search().map_err(|e| match e {
+        patchwork_core::inverse::DesignRunError::Options { field, reason } => {
+            let flag = field.trim_start_matches("objective.").replace('_', "-");
+            anyhow::anyhow!("--{flag}: {reason}")
+        }
+        other => anyhow::anyhow!(other),
+    })?;
     if let Some(mesh_mm) = args.mesh_mm {
         anyhow::ensure!(
             mesh_mm.is_finite() && mesh_mm > 0.0,

@@ -3,7 +3,9 @@
 
 use patchwork_core::curve::{Curve, Preset, Units, points_from_json, read_text};
 use patchwork_core::design::Design;
-use patchwork_core::inverse::{DesignRequest, Fidelity, Freedom, VariableBounds};
+use patchwork_core::inverse::{
+    DesignRequest, DesignRunError, Fidelity, Freedom, ObjectiveOptions, VariableBounds,
+};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -42,6 +44,13 @@ pub struct JobOptions {
     /// Keep `design.balloon.length_mm` instead of matching the target length.
     #[serde(default)]
     pub fix_length: bool,
+    /// Evaluations of the coarse-to-fine polish on the verification model
+    /// (default: the fidelity's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub polish: Option<usize>,
+    /// CMA-ES's initial step as a fraction of each variable's range.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial_step: Option<f64>,
 }
 
 /// `POST /v1/jobs`.
@@ -60,6 +69,9 @@ pub struct JobRequest {
     pub bounds: Option<VariableBounds>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub freedom: Option<Freedom>,
+    /// The objective's form and the shape-error weight.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objective: Option<ObjectiveOptions>,
 }
 
 /// A validated job: the target and the run's settings.
@@ -81,6 +93,12 @@ impl JobRequest {
                 format!("must be between 1 and {MAX_BUDGET} evaluations, got {budget}"),
             ));
         }
+        if self.options.polish.is_some_and(|p| p > MAX_BUDGET) {
+            return Err(Problem::invalid(
+                "options.polish",
+                format!("must be at most {MAX_BUDGET} evaluations"),
+            ));
+        }
         let bounds = self.bounds.unwrap_or_default();
         bounds
             .validate()
@@ -94,9 +112,26 @@ impl JobRequest {
             seed: self.options.seed.unwrap_or(1),
             // One job per worker, one worker per core.
             threads: 1,
+            objective: self.objective.unwrap_or_default(),
             ..DesignRequest::default()
         };
+        if let Some(step) = self.options.initial_step {
+            request.initial_step = step;
+        }
+        request.validate_search().map_err(|e| match e {
+            DesignRunError::Options { field, reason } => {
+                let field = match field.as_str() {
+                    "initial_step" => "options.initial_step".to_string(),
+                    _ => field,
+                };
+                Problem::invalid(field, reason)
+            }
+            other => Problem::invalid("options", other.to_string()),
+        })?;
         fidelity.apply(&mut request);
+        if let Some(polish) = self.options.polish {
+            request.polish_budget = polish;
+        }
         Ok(Prepared { target, request })
     }
 }

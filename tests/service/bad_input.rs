@@ -96,6 +96,22 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "bounds.theta_limit_deg",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "objective": {"shape_weight": -1}}),
+            "objective.shape_weight",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "objective": {"smooth_fraction": 2}}),
+            "objective.smooth_fraction",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "objective": {"weight": 1}}),
+            "objective.weight",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "options": {"initial_step": 0}}),
+            "options.initial_step",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "design": {"pressure_kpa": -5}}),
             "design.pressure_kpa",
         ),

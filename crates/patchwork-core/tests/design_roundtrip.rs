@@ -89,21 +89,22 @@ fn one_patch_round_trip_recovers_the_design() {
             && stages.contains(&Stage::Verify)
     );
     assert!(outcome.evaluations <= 200);
-    // Measured: 1.72 → 0.078, shape error 0.48 %, X 0.23, Y 60.18, H 19.6,
-    // Θ 18.6°; W (1.55 for 2.5) is only weakly identifiable from the centreline.
+    // Measured with the default objective (shape weight 10): 1.94 → 0.065,
+    // shape error 0.21 % (0.48 % with the profiles alone), Y 59.8, H 19.1,
+    // Θ 15.4°. W (1.72 for 2.5) is only weakly identifiable from the
+    // centreline, and a lone patch's X not at all: it turns the bending plane
+    // about the axis, which the objective (κ, τ and a Kabsch-aligned shape)
+    // does not see.
     assert!(
         outcome.metrics.objective < 0.2 * outcome.seed_objective,
         "no substantial improvement"
     );
-    assert!(outcome.metrics.shape_error_percent < 1.0);
+    assert!(outcome.metrics.shape_error_percent < 0.5);
     assert!(
         (found.y_mm - truth.y_mm).abs() < 1.5 && (found.h_mm - truth.h_mm).abs() < 2.0,
         "{found:?}"
     );
-    assert!(
-        found.x_mm.abs() < 1.0 && (found.theta_deg - truth.theta_deg).abs() < 6.0,
-        "{found:?}"
-    );
+    assert!((found.theta_deg - truth.theta_deg).abs() < 6.0, "{found:?}");
 }
 
 #[test]

@@ -12,12 +12,19 @@ use serde::{Deserialize, Serialize};
 
 use crate::curve::{AnalysisOptions, Curve, analyse, interpolate, shape_error};
 
+/// The shape-error weight of the default objective.
+pub const DEFAULT_SHAPE_WEIGHT: f64 = 10.0;
+
 /// Objective options.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ObjectiveOptions {
     pub squared: bool,
-    /// Weight of the shape error (RMS / length); 0 leaves it out.
+    /// Weight of the shape error (aligned RMS distance / length); 0 leaves it
+    /// out. Default 10, so that a 1 % shape error weighs about as much as a
+    /// typical κ/τ mismatch: the profiles alone leave position errors that
+    /// integrate along the curve unseen (ten round trips, BENCHMARKS.md: median
+    /// shape error 1.07 % without the term, 0.55 % with weight 10).
     pub shape_weight: f64,
     pub torsion_kappa_min: f64,
     /// Both centrelines are smoothed with σ = this fraction of their length (but
@@ -31,10 +38,29 @@ impl Default for ObjectiveOptions {
     fn default() -> Self {
         ObjectiveOptions {
             squared: false,
-            shape_weight: 0.0,
+            shape_weight: DEFAULT_SHAPE_WEIGHT,
             torsion_kappa_min: 0.005,
             smooth_fraction: 0.01,
         }
+    }
+}
+
+impl ObjectiveOptions {
+    /// Checks every option, naming the field (`shape_weight`, …) and why.
+    pub fn validate(&self) -> Result<(), (&'static str, String)> {
+        let check = |field, value: f64, low: f64, high: f64| {
+            if value.is_finite() && (low..=high).contains(&value) {
+                Ok(())
+            } else {
+                Err((
+                    field,
+                    format!("must be between {low} and {high}, got {value}"),
+                ))
+            }
+        };
+        check("shape_weight", self.shape_weight, 0.0, 1e3)?;
+        check("torsion_kappa_min", self.torsion_kappa_min, 0.0, 1e3)?;
+        check("smooth_fraction", self.smooth_fraction, 0.0, 0.25)
     }
 }
 

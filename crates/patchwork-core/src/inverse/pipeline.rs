@@ -20,8 +20,12 @@ use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate};
 use crate::ksa::{KsaError, KsaParams, Stretch, ksa};
 
 /// Objective value given to a candidate whose forward solve failed: worse than
-/// any design that solves (a straight tube scores 1).
-pub const FAILED_SOLVE_PENALTY: f64 = 10.0;
+/// any design that solves (a straight tube scores 1 on the profiles; the shape
+/// term adds at most its weight times the RMS distance over the length).
+pub const FAILED_SOLVE_PENALTY: f64 = 1e6;
+
+/// Default initial CMA-ES step in the unit cube.
+pub const INITIAL_STEP: f64 = 0.2;
 
 /// Everything a design run needs besides the target curve.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,6 +60,9 @@ pub struct DesignRequest {
     /// (0: none). The search model is coarser and bends the tube differently;
     /// the polish corrects for that. Not checkpointed: a resumed run repeats it.
     pub polish_budget: usize,
+    /// CMA-ES's initial step σ₀ in the unit cube of the free variables (each
+    /// variable's range maps to [0, 1]).
+    pub initial_step: f64,
 }
 
 impl Default for DesignRequest {
@@ -77,7 +84,31 @@ impl Default for DesignRequest {
             width_mm: 1.5,
             warm_starts: false,
             polish_budget: 0,
+            initial_step: INITIAL_STEP,
         }
+    }
+}
+
+impl DesignRequest {
+    /// Checks the search's own options (the objective and CMA-ES's step),
+    /// naming the field.
+    pub fn validate_search(&self) -> Result<(), DesignRunError> {
+        self.objective
+            .validate()
+            .map_err(|(field, reason)| DesignRunError::Options {
+                field: format!("objective.{field}"),
+                reason,
+            })?;
+        let step = self.initial_step;
+        if !(step.is_finite() && step > 0.0 && step <= 1.0) {
+            return Err(DesignRunError::Options {
+                field: "initial_step".into(),
+                reason: format!(
+                    "must be in (0, 1] (a fraction of each variable's range), got {step}"
+                ),
+            });
+        }
+        Ok(())
     }
 }
 
@@ -121,6 +152,10 @@ pub enum DesignRunError {
     Ksa(KsaError),
     #[error("{0}")]
     Variables(VariableError),
+    /// A search option out of range: the field (`objective.shape_weight`,
+    /// `initial_step`, …) and why.
+    #[error("{field}: {reason}")]
+    Options { field: String, reason: String },
     #[error("the bare balloon has no stable inflated state at {pressure_kpa} kPa")]
     NoTubeState { pressure_kpa: f64 },
     #[error("the seed design could not be simulated: {0}")]
@@ -234,6 +269,7 @@ pub fn design_resumable(
         ..request.base.clone()
     };
     base.validate().map_err(DesignRunError::Design)?;
+    request.validate_search()?;
     let search = SimulateOptions {
         mesh: request.search_mesh,
         rings: request.rings,
@@ -423,7 +459,7 @@ pub fn design_resumable(
 /// CMA-ES settings of the search: the unit cube around the seed.
 fn search_options(space: &DesignSpace, request: &DesignRequest) -> RunOptions {
     let n = space.dimension();
-    let mut options = RunOptions::new(space.seed_point(), 0.2, request.seed);
+    let mut options = RunOptions::new(space.seed_point(), request.initial_step, request.seed);
     options.bounds = Bounds::new(vec![0.0; n], vec![1.0; n]).ok();
     options.max_evaluations = request.budget - 1;
     options.threads = request.threads.max(1);

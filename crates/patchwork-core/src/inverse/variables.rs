@@ -141,6 +141,8 @@ impl DesignSpace {
         let b = bounds;
         let mut free = Vec::new();
         for (i, p) in seed.iter().enumerate() {
+            let (h_lo, h_hi) = limits(p.h_mm, b.h_min_mm, b.h_max_mm);
+            let (w_lo, w_hi) = limits(p.w_mm, b.w_min_mm, b.w_max_mm);
             let ranges = [
                 (freedom.x, p.x_mm - b.x_window_mm, p.x_mm + b.x_window_mm),
                 (
@@ -148,9 +150,8 @@ impl DesignSpace {
                     (p.y_mm - b.y_window_mm).max(0.0),
                     (p.y_mm + b.y_window_mm).min(balloon_length),
                 ),
-                // A seed outside the fabrication limits widens them to include it.
-                (freedom.h, b.h_min_mm.min(p.h_mm), b.h_max_mm.max(p.h_mm)),
-                (freedom.w, b.w_min_mm.min(p.w_mm), b.w_max_mm.max(p.w_mm)),
+                (freedom.h, h_lo, h_hi),
+                (freedom.w, w_lo, w_hi),
                 (
                     freedom.theta,
                     (p.theta_deg - b.theta_window_deg).max(-b.theta_limit_deg),
@@ -189,6 +190,22 @@ impl DesignSpace {
     }
 }
 
+/// The range of a size with fabrication limits `[min, max]`. A seed outside
+/// them widens the range to hold it with a margin of a quarter of the limits'
+/// span on both sides: a seed on the edge of the range would let CMA-ES's
+/// bound transform move it one way only (on the Hilbert curve, KSA's 31 mm
+/// patches against a 30 mm limit made every candidate shorter than the seed).
+fn limits(seed: f64, min: f64, max: f64) -> (f64, f64) {
+    if (min..=max).contains(&seed) {
+        return (min, max);
+    }
+    let margin = 0.25 * (max - min);
+    (
+        min.min(seed - margin).max(0.5 * min.min(seed)),
+        max.max(seed + margin),
+    )
+}
+
 fn get(p: &Patch, k: usize) -> f64 {
     [p.x_mm, p.y_mm, p.h_mm, p.w_mm, p.theta_deg][k]
 }
@@ -200,5 +217,49 @@ fn set(p: &mut Patch, k: usize, v: f64) {
         2 => p.h_mm = v,
         3 => p.w_mm = v,
         _ => p.theta_deg = v,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn patch(h_mm: f64) -> Patch {
+        Patch {
+            x_mm: 0.0,
+            y_mm: 50.0,
+            h_mm,
+            w_mm: 2.0,
+            theta_deg: 0.0,
+        }
+    }
+
+    /// (lower, upper, seed's unit coordinate) of the free H variable.
+    fn h_range(h_mm: f64) -> (f64, f64, f64) {
+        let space = DesignSpace::new(
+            vec![patch(h_mm)],
+            Freedom::default(),
+            &VariableBounds::default(),
+            100.0,
+        )
+        .unwrap();
+        let k = space.free.iter().position(|f| f.1 == 2).unwrap();
+        (space.free[k].2, space.free[k].3, space.seed_point()[k])
+    }
+
+    #[test]
+    fn a_seed_within_the_limits_keeps_them() {
+        assert_eq!(h_range(20.0), (10.0, 30.0, 0.5));
+    }
+
+    #[test]
+    fn a_seed_beyond_the_limits_lies_inside_its_range_with_a_margin() {
+        // KSA's Hilbert patches are 31.3 mm long against the 30 mm limit.
+        let (lo, hi, u) = h_range(31.34);
+        assert_eq!((lo, hi), (10.0, 36.34));
+        assert!(u > 0.7 && u < 0.9, "seed at u = {u}");
+        let (lo, hi, u) = h_range(4.0);
+        assert_eq!((lo, hi), (2.0, 30.0));
+        assert!(u > 0.0 && u < 0.2, "seed at u = {u}");
     }
 }
