@@ -177,6 +177,8 @@ def run_patchwork(binary, workdir, length, patch, pressure_kpa, mesh_mm):
     start = next(k for k, line in enumerate(lines) if line.startswith("POINTS"))
     count = int(lines[start].split()[1])
     points = np.array([[float(v) for v in lines[start + 1 + k].split()] for k in range(count)])
+    # Patchwork's uniform mesh (MeshSpec::around_for and TubeMesh::new): rings
+    # of `around` nodes, ring-major, the tip ring last before the cap.
     around = max(8, round(2 * math.pi * R / mesh_mm))
     rings = max(2, round(length / mesh_mm)) + 1
     tip = points[(rings - 1) * around: rings * around]

@@ -458,11 +458,30 @@ pub fn design_resumable(
 
 /// CMA-ES settings of the search: the unit cube around the seed.
 fn search_options(space: &DesignSpace, request: &DesignRequest) -> RunOptions {
-    let n = space.dimension();
-    let mut options = RunOptions::new(space.seed_point(), request.initial_step, request.seed);
+    unit_cube_options(
+        space.seed_point(),
+        request.initial_step,
+        request.seed,
+        request.budget,
+        request.threads,
+    )
+}
+
+/// CMA-ES in the unit cube of the free variables from `start` with step
+/// `sigma`, `budget` evaluations counting the start's own (evaluated before),
+/// shared by the search and the polish.
+pub(super) fn unit_cube_options(
+    start: Vec<f64>,
+    sigma: f64,
+    seed: u64,
+    budget: usize,
+    threads: usize,
+) -> RunOptions {
+    let n = start.len();
+    let mut options = RunOptions::new(start, sigma, seed);
     options.bounds = Bounds::new(vec![0.0; n], vec![1.0; n]).ok();
-    options.max_evaluations = request.budget - 1;
-    options.threads = request.threads.max(1);
+    options.max_evaluations = budget.saturating_sub(1);
+    options.threads = threads.max(1);
     options.tol_fun = 1e-7;
     options.tol_x = 1e-6;
     options

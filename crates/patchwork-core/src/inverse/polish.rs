@@ -8,12 +8,13 @@
 use std::sync::atomic::Ordering;
 
 use super::incumbent::{Incumbent, Scorer};
-use super::pipeline::DesignRunError;
-use crate::cmaes::{Bounds, Optimizer, RunOptions};
+use super::pipeline::{DesignRunError, unit_cube_options};
+use crate::cmaes::Optimizer;
 use crate::design::{Design, Patch};
 use crate::fe::Simulation;
 
-/// Initial step of the polish in the unit cube (the search starts at 0.2).
+/// Initial step of the polish in the unit cube (the search's default is
+/// `INITIAL_STEP`, 0.2): it starts from a good design.
 const POLISH_SIGMA: f64 = 0.05;
 
 /// The polish's result: the best design on the fine model (the start itself
@@ -42,14 +43,13 @@ pub(super) fn polish(
     };
     let (objective, state) = scorer.score(&start_design, None);
     let incumbent = Incumbent::new(objective, start_design.patches, state);
-    let n = start.len();
-    let mut options = RunOptions::new(start, POLISH_SIGMA, seed);
-    options.bounds = Bounds::new(vec![0.0; n], vec![1.0; n]).ok();
-    options.max_evaluations = budget.saturating_sub(1);
-    options.threads = threads.max(1);
-    options.tol_fun = 1e-7;
-    options.tol_x = 1e-6;
-    let mut optimizer = Optimizer::new(options);
+    let mut optimizer = Optimizer::new(unit_cube_options(
+        start,
+        POLISH_SIGMA,
+        seed,
+        budget,
+        threads,
+    ));
     let objective = |u: &[f64]| scorer.evaluate(u, &incumbent);
     loop {
         let ended = optimizer.step(&objective);
