@@ -12,7 +12,7 @@ use patchwork_core::fabrication::design_files;
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::inverse::{
     DesignCheckpoint, DesignHooks, DesignProgress, DesignReport, DesignRequest, Fidelity,
-    INITIAL_STEP, ObjectiveOptions, Stage, design_resumable,
+    INITIAL_STEP, ObjectiveOptions, Stage, Start, design_resumable,
 };
 
 use super::input::{CurveInput, read_text_argument};
@@ -51,6 +51,11 @@ pub struct DesignArgs {
     /// CMA-ES's initial step as a fraction of each variable's range.
     #[arg(long, default_value_t = INITIAL_STEP)]
     initial_step: f64,
+    /// Where CMA-ES starts: `ksa` (KSA's patches, windows around them) or
+    /// `even` (unseeded: as many patches spread evenly, free over the whole
+    /// balloon — to measure what the seed is worth).
+    #[arg(long, default_value = "ksa", value_parser = parse_start)]
+    start: Start,
     /// Threads evaluating a generation in parallel.
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
     threads: usize,
@@ -121,6 +126,7 @@ pub fn run(args: DesignArgs) -> Result<()> {
         request.polish_budget = polish;
     }
     request.initial_step = args.initial_step;
+    request.start = args.start;
     request.objective.shape_weight = args.shape_weight;
     request.objective.squared = args.squared;
     // Checked before the output folder is created: a bad option changes nothing.
@@ -241,4 +247,12 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         dir.display()
     ));
     s
+}
+
+fn parse_start(text: &str) -> Result<Start, String> {
+    match text {
+        "ksa" => Ok(Start::Ksa),
+        "even" => Ok(Start::Even),
+        other => Err(format!("expected `ksa` or `even`, got `{other}`")),
+    }
 }

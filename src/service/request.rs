@@ -4,7 +4,7 @@
 use patchwork_core::curve::{Curve, Preset, Units, points_from_json, read_text};
 use patchwork_core::design::Design;
 use patchwork_core::inverse::{
-    DesignRequest, DesignRunError, Fidelity, Freedom, ObjectiveOptions, VariableBounds,
+    DesignRequest, DesignRunError, Fidelity, Freedom, ObjectiveOptions, Start, VariableBounds,
 };
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -51,6 +51,9 @@ pub struct JobOptions {
     /// CMA-ES's initial step as a fraction of each variable's range.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial_step: Option<f64>,
+    /// Where CMA-ES starts (default: KSA's patches).
+    #[serde(default)]
+    pub start: Start,
 }
 
 /// `POST /v1/jobs`.
@@ -118,6 +121,7 @@ impl JobRequest {
         if let Some(step) = self.options.initial_step {
             request.initial_step = step;
         }
+        request.start = self.options.start;
         request.validate_search().map_err(|e| match e {
             DesignRunError::Options { field, reason } => {
                 let field = match field.as_str() {

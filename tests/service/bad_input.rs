@@ -112,6 +112,10 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "options.initial_step",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "options": {"start": "random"}}),
+            "options.start",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "design": {"pressure_kpa": -5}}),
             "design.pressure_kpa",
         ),

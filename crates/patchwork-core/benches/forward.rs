@@ -1,6 +1,8 @@
 //! Forward solve of the reference scene with the six KSA patches of the
-//! Hilbert curve (DESIGN.md), 20 kPa: cold start at 2 mm and 1 mm elements, and
-//! warm start from a nearby design (as in a CMA-ES generation) at 2 mm.
+//! Hilbert curve (DESIGN.md), 20 kPa: cold start at 2 mm and 1 mm elements —
+//! with the mesh's tangent pattern cached from an earlier solve, as in a design
+//! search, and on a new mesh (ordering and symbolic factorisation included) —
+//! and warm start from a nearby design (as in a CMA-ES generation) at 2 mm.
 //!
 //! `cargo bench -p patchwork-core --bench forward`
 
@@ -8,6 +10,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use patchwork_core::curve::ReferenceCurve;
 use patchwork_core::design::{Design, Patch};
 use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::newton::forget_recent_patterns;
 use patchwork_core::fe::{SimulateOptions, simulate, simulate_from};
 use patchwork_core::ksa::{KsaParams, ksa};
 
@@ -50,6 +53,12 @@ fn bench(c: &mut Criterion) {
         };
         group.bench_function(format!("cold_{h}mm"), |b| {
             b.iter(|| simulate(&design, &options).expect("converges"))
+        });
+        group.bench_function(format!("cold_{h}mm_new_mesh"), |b| {
+            b.iter(|| {
+                forget_recent_patterns();
+                simulate(&design, &options).expect("converges")
+            })
         });
     }
     let options = SimulateOptions::default();

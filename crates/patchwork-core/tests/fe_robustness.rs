@@ -29,6 +29,8 @@ fn random_designs_converge_or_fail_with_a_typed_error() {
     let circumference = std::f64::consts::TAU * 3.18;
     let (mut converged, mut failed, mut unstable) = (0, 0, 0);
     let mut iterations = Vec::new();
+    let mut factorisations = 0;
+    let started = std::time::Instant::now();
     for _ in 0..200 {
         let patches = SEED_Y
             .iter()
@@ -44,6 +46,7 @@ fn random_designs_converge_or_fail_with_a_typed_error() {
             Ok(sim) => {
                 converged += 1;
                 iterations.push(sim.stats.iterations);
+                factorisations += sim.stats.factorisations;
                 unstable += usize::from(!sim.stats.stable);
                 assert!(
                     sim.centreline
@@ -68,10 +71,12 @@ fn random_designs_converge_or_fail_with_a_typed_error() {
     }
     iterations.sort_unstable();
     println!(
-        "robustness: {converged}/200 converged ({:.1} %), {failed} typed failures, {unstable} converged but not stable; Newton iterations median {} max {}",
+        "robustness: {converged}/200 converged ({:.1} %), {failed} typed failures, {unstable} converged but not stable; Newton iterations median {} max {} total {}; {factorisations} factorisations; {:.1} s",
         converged as f64 / 2.0,
         iterations.get(iterations.len() / 2).copied().unwrap_or(0),
-        iterations.last().copied().unwrap_or(0)
+        iterations.last().copied().unwrap_or(0),
+        iterations.iter().sum::<usize>(),
+        started.elapsed().as_secs_f64()
     );
     assert_eq!(converged + failed, 200);
 }

@@ -21,6 +21,7 @@ pub mod newton;
 pub mod overlap;
 pub mod pressure;
 mod simulate;
+mod tangent_factor;
 pub mod tube_theory;
 pub mod volume_control;
 

@@ -123,23 +123,44 @@ pub fn simulate_from(
         })?;
     let mesh = TubeMesh::for_design(design, options.mesh);
     let model = Model::new(design, mesh);
+    let setup = Instant::now();
     let solver = Solver::new(&model).map_err(|reason| SimulateError::Solve {
         stiffness: 0.0,
         reason,
     })?;
-    let mut stats = SolveStats::default();
+    let setup_time = setup.elapsed();
+    let with_setup = |s: SolveStats| SolveStats { setup_time, ..s };
+    let mut stats = with_setup(SolveStats::default());
     let mut steps = 0;
     if let Some(mut x) = previous.and_then(|p| carried_state(p, &model.mesh))
         && let Ok(s) = solver.solve(&model, &model.layers, &mut x, &options.newton)
     {
-        return finish(design, options, model, x, tube_state, s, 1, started);
+        return finish(
+            design,
+            options,
+            model,
+            x,
+            tube_state,
+            with_setup(s),
+            1,
+            started,
+        );
     }
     // First try the kinematic (bent) start at full patch stiffness; if Newton
     // fails from there, fall back to the straight tube and continuation.
     if !design.patches.is_empty() {
         let mut x = kinematic_state(design, &model.mesh, tube_state, KINEMATIC_SCALE);
         if let Ok(s) = solver.solve(&model, &model.layers, &mut x, &options.newton) {
-            return finish(design, options, model, x, tube_state, s, 1, started);
+            return finish(
+                design,
+                options,
+                model,
+                x,
+                tube_state,
+                with_setup(s),
+                1,
+                started,
+            );
         }
     }
     let mut x = initial_state(&model.mesh, tube_state);

@@ -14,7 +14,7 @@ pub use fidelity::Fidelity;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use pipeline::{
     DesignCheckpoint, DesignHooks, DesignOutcome, DesignProgress, DesignRequest, DesignRunError,
-    INITIAL_STEP, Metrics, Stage, assess, design, design_resumable,
+    INITIAL_STEP, Metrics, Stage, Start, assess, design, design_resumable,
 };
 pub use report::DesignReport;
 pub use variables::{DesignSpace, Freedom, VariableBounds};

@@ -63,6 +63,23 @@ pub struct DesignRequest {
     /// CMA-ES's initial step σ₀ in the unit cube of the free variables (each
     /// variable's range maps to [0, 1]).
     pub initial_step: f64,
+    /// Where CMA-ES starts: from KSA's patches (the method), or unseeded.
+    pub start: Start,
+}
+
+/// Where the search starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Start {
+    /// KSA's patches, with bounds as windows around them.
+    #[default]
+    Ksa,
+    /// Unseeded, to measure what the seed is worth: as many patches as KSA
+    /// found, spread evenly along the balloon with mid-range sizes, X = 0 and
+    /// Θ = 0, each free over the whole balloon (X around the whole
+    /// circumference, Y along the whole length, Θ within its limit). The
+    /// balloon's length is still chosen from mechanics.
+    Even,
 }
 
 impl Default for DesignRequest {
@@ -85,6 +102,7 @@ impl Default for DesignRequest {
             warm_starts: false,
             polish_budget: 0,
             initial_step: INITIAL_STEP,
+            start: Start::Ksa,
         }
     }
 }
@@ -312,6 +330,9 @@ pub fn design_resumable(
         None => {
             report(Stage::Seed, 0, 0, f64::NAN, 0.0, observer);
             base = seeded_balloon(target, base, request, &verify)?;
+            if request.start == Start::Even {
+                base.patches = spread_evenly(&base, base.patches.len(), &request.bounds);
+            }
             let seed_patches = base.patches.clone();
             base.patches.clear();
             let seed_design = Design {
@@ -335,13 +356,12 @@ pub fn design_resumable(
     };
     let base = state.base.clone();
     let length = base.balloon.length_mm;
-    let space = DesignSpace::new(
-        state.seed_patches.clone(),
-        request.freedom,
-        &request.bounds,
-        length,
-    )
-    .map_err(DesignRunError::Variables)?;
+    let bounds = match request.start {
+        Start::Ksa => request.bounds,
+        Start::Even => request.bounds.spanning(length, base.balloon.radius_mm),
+    };
+    let space = DesignSpace::new(state.seed_patches.clone(), request.freedom, &bounds, length)
+        .map_err(DesignRunError::Variables)?;
     let mut termination = Termination::MaxEvaluations;
     if space.dimension() > 0 && request.budget > 1 {
         let incumbent =
@@ -531,6 +551,20 @@ fn seeded_balloon(
     };
     seeded.balloon.length_mm = length;
     Ok(seeded)
+}
+
+/// `count` patches spread evenly along the balloon: the unseeded start.
+fn spread_evenly(balloon: &Design, count: usize, bounds: &VariableBounds) -> Vec<Patch> {
+    let length = balloon.balloon.length_mm;
+    (0..count)
+        .map(|i| Patch {
+            x_mm: 0.0,
+            y_mm: (i as f64 + 0.5) * length / count as f64,
+            h_mm: 0.5 * (bounds.h_min_mm + bounds.h_max_mm),
+            w_mm: 0.5 * (bounds.w_min_mm + bounds.w_max_mm),
+            theta_deg: 0.0,
+        })
+        .collect()
 }
 
 /// KSA patches for a balloon of `length`, mapping the whole target onto it.

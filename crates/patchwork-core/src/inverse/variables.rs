@@ -114,6 +114,20 @@ impl VariableBounds {
     }
 }
 
+impl VariableBounds {
+    /// These bounds with windows that span the whole balloon from a start at
+    /// X = 0, Θ = 0: X around the circumference (±πR0), Y along the length,
+    /// Θ across its limit. The size limits stay.
+    pub fn spanning(&self, length_mm: f64, radius_mm: f64) -> VariableBounds {
+        VariableBounds {
+            x_window_mm: std::f64::consts::PI * radius_mm,
+            y_window_mm: length_mm,
+            theta_window_deg: self.theta_limit_deg,
+            ..*self
+        }
+    }
+}
+
 /// An impossible bound, naming the field.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("bounds.{field}: {reason}")]
@@ -261,5 +275,21 @@ mod tests {
         let (lo, hi, u) = h_range(4.0);
         assert_eq!((lo, hi), (2.0, 30.0));
         assert!(u > 0.0 && u < 0.2, "seed at u = {u}");
+    }
+
+    #[test]
+    fn spanning_bounds_free_a_centred_patch_over_the_whole_balloon() {
+        let bounds = VariableBounds::default().spanning(100.0, 3.0);
+        let space =
+            DesignSpace::new(vec![patch(20.0)], Freedom::default(), &bounds, 100.0).unwrap();
+        let range = |k: usize| {
+            let f = space.free.iter().find(|f| f.1 == k).unwrap();
+            (f.2, f.3)
+        };
+        let half_turn = std::f64::consts::PI * 3.0;
+        assert_eq!(range(0), (-half_turn, half_turn));
+        assert_eq!(range(1), (0.0, 100.0));
+        assert_eq!(range(2), (10.0, 30.0));
+        assert_eq!(range(4), (-80.0, 80.0));
     }
 }
