@@ -132,9 +132,22 @@ pub fn simulate_from(
     let with_setup = |s: SolveStats| SolveStats { setup_time, ..s };
     let mut stats = with_setup(SolveStats::default());
     let mut steps = 0;
-    if let Some(mut x) = previous.and_then(|p| carried_state(p, &model.mesh))
-        && let Ok(s) = solver.solve(&model, &model.layers, &mut x, &options.newton)
-    {
+    // A neighbour's converged state (if given), then the kinematic (bent)
+    // start, each at full patch stiffness; if Newton fails from both, the
+    // straight tube and continuation.
+    let warm = previous.and_then(|p| carried_state(p, &model.mesh));
+    let kinematic = std::iter::once_with(|| {
+        (!design.patches.is_empty())
+            .then(|| kinematic_state(design, &model.mesh, tube_state, KINEMATIC_SCALE))
+    })
+    .flatten();
+    let solved = warm.into_iter().chain(kinematic).find_map(|mut x| {
+        let s = solver
+            .solve(&model, &model.layers, &mut x, &options.newton)
+            .ok()?;
+        Some((x, s))
+    });
+    if let Some((x, s)) = solved {
         return finish(
             design,
             options,
@@ -145,23 +158,6 @@ pub fn simulate_from(
             1,
             started,
         );
-    }
-    // First try the kinematic (bent) start at full patch stiffness; if Newton
-    // fails from there, fall back to the straight tube and continuation.
-    if !design.patches.is_empty() {
-        let mut x = kinematic_state(design, &model.mesh, tube_state, KINEMATIC_SCALE);
-        if let Ok(s) = solver.solve(&model, &model.layers, &mut x, &options.newton) {
-            return finish(
-                design,
-                options,
-                model,
-                x,
-                tube_state,
-                with_setup(s),
-                1,
-                started,
-            );
-        }
     }
     let mut x = initial_state(&model.mesh, tube_state);
 
