@@ -54,7 +54,7 @@ pub struct DesignArgs {
     /// Where CMA-ES starts: `ksa` (KSA's patches, windows around them) or
     /// `even` (unseeded: as many patches spread evenly, free over the whole
     /// balloon — to measure what the seed is worth).
-    #[arg(long, default_value = "ksa", value_parser = parse_start)]
+    #[arg(long, default_value = "ksa")]
     start: Start,
     /// Threads evaluating a generation in parallel.
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
@@ -247,12 +247,4 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         dir.display()
     ));
     s
-}
-
-fn parse_start(text: &str) -> Result<Start, String> {
-    match text {
-        "ksa" => Ok(Start::Ksa),
-        "even" => Ok(Start::Even),
-        other => Err(format!("expected `ksa` or `even`, got `{other}`")),
-    }
 }

@@ -95,7 +95,6 @@ impl SolveStats {
 /// Reusable sparse structures of one model (ordering, pattern, symbolic Cholesky).
 pub struct Solver {
     pattern: Arc<TangentPattern>,
-    n: usize,
 }
 
 /// Tangent patterns built recently, with the triplet positions each was built
@@ -119,7 +118,7 @@ impl Solver {
         let n = model.dof_count;
         let pairs = model.pattern();
         if let Some(pattern) = recent_pattern(&pairs) {
-            return Ok(Solver { pattern, n });
+            return Ok(Solver { pattern });
         }
         let pattern = Arc::new(TangentPattern::new(n, &pairs).map_err(SolveError::Setup)?);
         let mut recent = RECENT_PATTERNS.lock().unwrap_or_else(|e| e.into_inner());
@@ -127,7 +126,7 @@ impl Solver {
             recent.remove(0);
         }
         recent.push((pairs, Arc::clone(&pattern)));
-        Ok(Solver { pattern, n })
+        Ok(Solver { pattern })
     }
 
     /// Minimises Π from `x` (updated in place).
@@ -140,7 +139,8 @@ impl Solver {
     ) -> Result<SolveStats, SolveError> {
         let started = Instant::now();
         let mut u = model.unknowns(x);
-        let mut gradient = vec![0.0; self.n];
+        let n = self.pattern.dimension();
+        let mut gradient = vec![0.0; n];
         let mut values = Vec::new();
         let scale = load_scale(model, x).max(1e-12);
         let mut shift: f64 = 0.0;
@@ -215,7 +215,7 @@ impl Solver {
                 None if residual <= 1e3 * options.tolerance => {
                     stats.iterations = iteration;
                     stats.residual = residual;
-                    stats.stable = factor.factorise(&values_without_shift(&mut values, self.n));
+                    stats.stable = factor.factorise(&values_without_shift(&mut values, n));
                     *x = model.positions(&u);
                     return Ok(stats);
                 }

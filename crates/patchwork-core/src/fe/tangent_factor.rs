@@ -19,7 +19,7 @@
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
 use faer::sparse::linalg::{SupernodalThreshold, amd};
@@ -31,9 +31,9 @@ pub struct TangentPattern {
     n: usize,
     /// `forward[i]`: the original unknown at position `i` of the factor's ordering.
     forward: Vec<usize>,
+    /// The permuted pattern's lower triangle, as the supernodal numeric
+    /// factorisation reads it without transposing.
     columns: SymbolicSparseColMat<usize>,
-    /// Storage side the numeric factorisation reads without transposing.
-    side: Side,
     /// For triplet `k` of the assembly, its index in the column values.
     slot: Vec<usize>,
     symbolic: SymbolicCholesky<usize>,
@@ -52,7 +52,7 @@ impl TangentPattern {
     /// `pairs`: the (row, col) of each triplet the assembly writes, row ≥ col
     /// (lower triangle), duplicates summed.
     pub fn new(n: usize, pairs: &[Pair<usize, usize>]) -> Result<TangentPattern, String> {
-        let (original, _) = compressed_columns(n, pairs.iter().map(|p| (p.row, p.col)));
+        let original = compressed_columns(n, pairs.iter().map(|p| (p.row, p.col)));
         let mut forward = vec![0usize; n];
         let mut inverse = vec![0usize; n];
         let nnz = original.row_idx().len();
@@ -64,11 +64,6 @@ impl TangentPattern {
             MemStack::new(&mut MemBuffer::new(amd::order_scratch::<usize>(n, nnz))),
         )
         .map_err(|e| format!("{e:?}"))?;
-        // Supernodal: on these tangents faster than faer's default choice,
-        // simplicial (Hilbert scene, cold solve: 2 mm 15 % less CPU time, 1 mm
-        // 1.8 → 1.2 s). Its numeric factorisation reads the lower triangle
-        // (a simplicial one the upper); without a permutation the symbolic
-        // factorisation reads the upper triangle whatever side it is told.
         let lower: Vec<(usize, usize)> = pairs
             .iter()
             .map(|p| {
@@ -76,9 +71,14 @@ impl TangentPattern {
                 (r.max(c), r.min(c))
             })
             .collect();
+        // Supernodal, forced: on these tangents faster than faer's default
+        // choice, simplicial (Hilbert scene, cold solve: 2 mm 15 % less CPU
+        // time, 1 mm 1.8 → 1.2 s). Without a permutation faer's symbolic
+        // factorisation reads the upper triangle whatever side it is told; the
+        // supernodal numeric factorisation reads the lower one.
         let upper = compressed_columns(n, lower.iter().map(|&(r, c)| (c, r)));
         let symbolic = factorize_symbolic_cholesky(
-            upper.0.as_ref(),
+            upper.as_ref(),
             Side::Upper,
             SymmetricOrdering::Identity,
             CholeskySymbolicParams {
@@ -87,17 +87,12 @@ impl TangentPattern {
             },
         )
         .map_err(|e| format!("{e:?}"))?;
-        let (side, (columns, slot)) = match symbolic.raw() {
-            SymbolicCholeskyRaw::Simplicial(_) => (Side::Upper, upper),
-            SymbolicCholeskyRaw::Supernodal(_) => {
-                (Side::Lower, compressed_columns(n, lower.iter().copied()))
-            }
-        };
+        let columns = compressed_columns(n, lower.iter().copied());
+        let slot = slots(&columns, &lower);
         Ok(TangentPattern {
             n,
             forward,
             columns,
-            side,
             slot,
             symbolic,
         })
@@ -116,6 +111,13 @@ impl TangentPattern {
             scratch: MemBuffer::new(factor.or(solve)),
             permuted: vec![0.0; self.n],
         }
+    }
+}
+
+impl TangentPattern {
+    /// Number of unknowns.
+    pub fn dimension(&self) -> usize {
+        self.n
     }
 }
 
@@ -139,7 +141,7 @@ impl TangentFactor<'_> {
             .factorize_numeric_llt(
                 &mut self.factor_values,
                 matrix,
-                pattern.side,
+                Side::Lower,
                 LltRegularization::default(),
                 Par::Seq,
                 MemStack::new(&mut self.scratch),
@@ -168,13 +170,13 @@ impl TangentFactor<'_> {
 }
 
 /// Compressed columns (rows sorted, duplicates merged) of the entries
-/// `(row, col)`, and for each entry its index in the column values. Entries are
-/// bucketed by column and each short column sorted on its own: a tangent's
-/// column holds a few dozen entries, so this is linear in the entry count.
+/// `(row, col)`. Entries are bucketed by column and each short column sorted
+/// on its own: a tangent's column holds a few dozen entries, so this is linear
+/// in the entry count.
 fn compressed_columns(
     n: usize,
     entries: impl Iterator<Item = (usize, usize)> + Clone,
-) -> (SymbolicSparseColMat<usize>, Vec<usize>) {
+) -> SymbolicSparseColMat<usize> {
     let mut start = vec![0usize; n + 1];
     for (_, c) in entries.clone() {
         start[c + 1] += 1;
@@ -184,7 +186,7 @@ fn compressed_columns(
     }
     let mut bucket = vec![0usize; start[n]];
     let mut fill = start.clone();
-    for (r, c) in entries.clone() {
+    for (r, c) in entries {
         bucket[fill[c]] = r;
         fill[c] += 1;
     }
@@ -202,14 +204,19 @@ fn compressed_columns(
         }
         col_ptr.push(row_idx.len());
     }
-    let slot = entries
-        .map(|(r, c)| {
+    SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx)
+}
+
+/// For each entry `(row, col)`, its index in the values of `columns`.
+fn slots(columns: &SymbolicSparseColMat<usize>, entries: &[(usize, usize)]) -> Vec<usize> {
+    let (col_ptr, row_idx) = (columns.col_ptr(), columns.row_idx());
+    entries
+        .iter()
+        .map(|&(r, c)| {
             let column = &row_idx[col_ptr[c]..col_ptr[c + 1]];
             col_ptr[c] + column.binary_search(&r).expect("entry is in the pattern")
         })
-        .collect();
-    let columns = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-    (columns, slot)
+        .collect()
 }
 
 #[cfg(test)]

@@ -78,8 +78,21 @@ pub enum Start {
     /// found, spread evenly along the balloon with mid-range sizes, X = 0 and
     /// Θ = 0, each free over the whole balloon (X around the whole
     /// circumference, Y along the whole length, Θ within its limit). The
-    /// balloon's length is still chosen from mechanics.
+    /// balloon is the seeded run's (its length corrected from a simulation
+    /// of KSA's seed), so that both starts search the same balloon.
     Even,
+}
+
+impl std::str::FromStr for Start {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        match text {
+            "ksa" => Ok(Start::Ksa),
+            "even" => Ok(Start::Even),
+            _ => Err(format!("unknown start {text:?}: choose one of ksa, even")),
+        }
+    }
 }
 
 impl Default for DesignRequest {
