@@ -190,7 +190,7 @@ impl Solver {
             stats.factorisations += attempts;
             let t2 = Instant::now();
             // Decay the shift; once negligible, try plain Newton again.
-            shift = if used_shift > 1e-6 * stiffness {
+            shift = if used_shift / 10.0 > SMALLEST_SHIFT * stiffness {
                 used_shift / 10.0
             } else {
                 0.0
@@ -269,6 +269,17 @@ fn converging_quadratically(residuals: &[f64]) -> bool {
     *b <= 0.1 * a && *c <= 0.1 * b
 }
 
+/// The first shift tried, relative to the mean tangent entry, when K itself
+/// is not positive definite. Over the 200 random designs of the robustness
+/// test, 200 of 207 such searches ended at 1e3 and none below 1e-3; starting
+/// at 1e-8 spent four attempts on shifts that never work (factorisations
+/// 12 009 → 11 187, Newton iterations 8 104 → 8 073, the worst case 80 → 61).
+const FIRST_SHIFT: f64 = 1e-4;
+
+/// A decayed shift below this (relative to the mean tangent entry) becomes
+/// zero: plain Newton is tried again.
+const SMALLEST_SHIFT: f64 = 1e-6;
+
 /// Factors K + αI, growing α from `start` until the factorisation succeeds;
 /// returns the α used and the number of attempts. The last `n` triplets of
 /// `values` are the diagonal shift slots.
@@ -287,7 +298,7 @@ fn factor_with_shift(
             return Ok((shift, attempt));
         }
         shift = if shift == 0.0 {
-            1e-8 * stiffness
+            FIRST_SHIFT * stiffness
         } else {
             shift * 10.0
         };
