@@ -236,3 +236,43 @@ fn polish_stage_runs_on_the_verification_model() {
     assert!(after.evaluations <= before.evaluations + 20);
     assert!(after.metrics.objective <= before.metrics.objective + 1e-12);
 }
+
+/// A job run again (a retry, a re-submitted request) repeats its search
+/// exactly and finds every simulation in the evaluation cache: the same
+/// outcome to the bit, with no new solve.
+#[test]
+fn a_repeated_run_is_served_from_the_evaluation_cache() {
+    use patchwork_core::inverse::evaluation_cache;
+    let (base, target) = small_target();
+    let request = DesignRequest {
+        base,
+        budget: 30,
+        threads: 2,
+        search_mesh: MeshSpec::uniform(3.0),
+        verify_mesh: MeshSpec::uniform(2.0),
+        ..DesignRequest::default()
+    };
+    let run = || design(&target, &request, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    let first = run();
+    let before = evaluation_cache::counts();
+    let again = run();
+    let after = evaluation_cache::counts();
+    println!(
+        "first run {:.2} s, repeated run {:.3} s; cache hits {} → {}",
+        first.elapsed.as_secs_f64(),
+        again.elapsed.as_secs_f64(),
+        before.hits,
+        after.hits
+    );
+    assert_eq!(again.design, first.design);
+    assert_eq!(again.metrics.objective.to_bits(), first.metrics.objective.to_bits());
+    assert_eq!(again.evaluations, first.evaluations);
+    // Every evaluation, the seed's length correction and the verification
+    // (tests running beside this one may add hits of their own, never remove).
+    assert!(
+        after.hits - before.hits >= first.evaluations + 2,
+        "{} hits for {} evaluations",
+        after.hits - before.hits,
+        first.evaluations
+    );
+}

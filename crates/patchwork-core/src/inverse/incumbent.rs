@@ -11,6 +11,7 @@ use super::objective::{ObjectiveOptions, TargetProfiles};
 use super::pipeline::FAILED_SOLVE_PENALTY;
 use super::variables::DesignSpace;
 use crate::design::{Design, Patch};
+use super::evaluation_cache::simulate_cached;
 use crate::fe::{SimulateOptions, Simulation, simulate_from};
 
 /// What a stage evaluates candidates with.
@@ -75,7 +76,11 @@ pub(super) fn score(
     objective: &ObjectiveOptions,
     warm: Option<&Simulation>,
 ) -> (f64, Option<Simulation>) {
-    match simulate_from(design, model, warm) {
+    let solved = match warm {
+        Some(_) => simulate_from(design, model, warm),
+        None => simulate_cached(design, model),
+    };
+    match solved {
         Ok(sim) => (profiles.objective(&sim.centreline, objective), Some(sim)),
         Err(_) => (FAILED_SOLVE_PENALTY, None),
     }

@@ -16,7 +16,8 @@ use crate::curve::{Curve, dtw, shape_error};
 use crate::design::{Design, DesignError, Patch};
 use crate::fe::mesh::MeshSpec;
 use crate::fe::tube_theory::inflate_tube;
-use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate};
+use super::evaluation_cache::simulate_cached;
+use crate::fe::{SimulateError, SimulateOptions, Simulation};
 use crate::ksa::{KsaError, KsaParams, Stretch, ksa};
 
 /// Objective value given to a candidate whose forward solve failed: worse than
@@ -458,7 +459,7 @@ pub fn design_resumable(
     );
     let mut simulation = match verified_best {
         Some(simulation) => simulation,
-        None => simulate(&best, &verify).map_err(DesignRunError::Verify)?,
+        None => simulate_cached(&best, &verify).map_err(DesignRunError::Verify)?,
     };
     // The length was chosen for the seed; the best design's patches stretch
     // differently. Correct it once more (patch positions and lengths scale
@@ -466,7 +467,7 @@ pub fn design_resumable(
     let ratio = target.length() / simulation.inflated_length_mm;
     if !request.fix_length && (ratio - 1.0).abs() > LENGTH_TOLERANCE {
         stretch_balloon(&mut best, ratio);
-        simulation = simulate(&best, &verify).map_err(DesignRunError::Verify)?;
+        simulation = simulate_cached(&best, &verify).map_err(DesignRunError::Verify)?;
     }
     let (metrics, profiles) = verified(&profiles, &simulation, &request.objective);
     Ok(DesignOutcome {
@@ -553,7 +554,7 @@ fn seeded_balloon(
             ..base.clone()
         };
         trial.balloon.length_mm = length;
-        let sim = simulate(&trial, verify).map_err(DesignRunError::Seed)?;
+        let sim = simulate_cached(&trial, verify).map_err(DesignRunError::Seed)?;
         stretch_balloon(&mut trial, target_length / sim.inflated_length_mm);
         length = trial.balloon.length_mm;
         seed_patches = trial.patches;
@@ -625,7 +626,7 @@ pub fn assess(
         rings: request.rings,
         ..SimulateOptions::default()
     };
-    let simulation = simulate(design, &options)?;
+    let simulation = simulate_cached(design, &options)?;
     let profiles = TargetProfiles::new(target, request.rings, &request.objective);
     Ok(verified(&profiles, &simulation, &request.objective).0)
 }
