@@ -292,6 +292,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
             command.push_str(&format!(" --{flag} {}", values.join(",")));
         }
     }
+    let cache = patchwork_core::inverse::evaluation_cache::counts();
+    eprintln!(
+        "evaluation cache: {} hits, {} misses (cold solves only; warm-started ones bypass it)",
+        cache.hits, cache.misses
+    );
     let table = table(&rows, &command);
     std::fs::write(args.out.join("bench.md"), &table)?;
     std::fs::write(args.out.join("bench.svg"), plot(&rows))?;

@@ -265,7 +265,10 @@ fn a_repeated_run_is_served_from_the_evaluation_cache() {
         after.hits
     );
     assert_eq!(again.design, first.design);
-    assert_eq!(again.metrics.objective.to_bits(), first.metrics.objective.to_bits());
+    assert_eq!(
+        again.metrics.objective.to_bits(),
+        first.metrics.objective.to_bits()
+    );
     assert_eq!(again.evaluations, first.evaluations);
     // Every evaluation, the seed's length correction and the verification
     // (tests running beside this one may add hits of their own, never remove).

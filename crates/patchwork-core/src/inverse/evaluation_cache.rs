@@ -154,7 +154,10 @@ mod tests {
         assert_eq!(first.positions, second.positions);
         assert_eq!(first.curvature, second.curvature);
         // A fresh solve gives the same bits: the cache changes no result.
-        assert_eq!(simulate(&design, &options).expect("solves").positions, first.positions);
+        assert_eq!(
+            simulate(&design, &options).expect("solves").positions,
+            first.positions
+        );
         design.patches[0].theta_deg = 10.000001;
         simulate_cached(&design, &options).expect("solves");
         let after = counts();

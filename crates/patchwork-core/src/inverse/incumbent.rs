@@ -7,11 +7,11 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
+use super::evaluation_cache::simulate_cached;
 use super::objective::{ObjectiveOptions, TargetProfiles};
 use super::pipeline::FAILED_SOLVE_PENALTY;
 use super::variables::DesignSpace;
 use crate::design::{Design, Patch};
-use super::evaluation_cache::simulate_cached;
 use crate::fe::{SimulateOptions, Simulation, simulate_from};
 
 /// What a stage evaluates candidates with.

@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
+use super::evaluation_cache::simulate_cached;
 use super::incumbent::{Incumbent, Scorer, score};
 use super::objective::{ObjectiveOptions, TargetProfiles};
 use super::polish::polish;
@@ -16,7 +17,6 @@ use crate::curve::{Curve, dtw, shape_error};
 use crate::design::{Design, DesignError, Patch};
 use crate::fe::mesh::MeshSpec;
 use crate::fe::tube_theory::inflate_tube;
-use super::evaluation_cache::simulate_cached;
 use crate::fe::{SimulateError, SimulateOptions, Simulation};
 use crate::ksa::{KsaError, KsaParams, Stretch, ksa};
 
