@@ -31,7 +31,7 @@ pub struct DesignArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Forward simulations the search may spend (default: the fidelity's,
-    /// 200/600/1200 for draft/standard/fine).
+    /// 200/600/200 for draft/standard/fine).
     #[arg(long)]
     budget: Option<usize>,
     /// Evaluations of a coarse-to-fine polish: a short CMA-ES run on the

@@ -22,7 +22,10 @@ use patchwork_core::ksa::{KsaParams, ksa};
 fn main() {
     let args: Vec<f64> = std::env::args()
         .skip(1)
-        .map(|a| a.parse().expect("numbers: element_mm straight_mm count sigma"))
+        .map(|a| {
+            a.parse()
+                .expect("numbers: element_mm straight_mm count sigma")
+        })
         .collect();
     let element = args.first().copied().unwrap_or(1.0);
     let straight = args.get(1).copied().unwrap_or(4.0);
