@@ -42,7 +42,7 @@ static CACHE: Mutex<Option<Cache>> = Mutex::new(None);
 static HITS: AtomicUsize = AtomicUsize::new(0);
 static MISSES: AtomicUsize = AtomicUsize::new(0);
 
-/// Hits and misses since the process started (or the last [`forget`]).
+/// Hits and misses since the process started.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CacheCounts {
     pub hits: usize,
@@ -74,13 +74,6 @@ pub fn counts() -> CacheCounts {
         hits: HITS.load(Ordering::Relaxed),
         misses: MISSES.load(Ordering::Relaxed),
     }
-}
-
-/// Empties the cache and zeroes its counts (for measurements of first runs).
-pub fn forget() {
-    *lock() = None;
-    HITS.store(0, Ordering::Relaxed);
-    MISSES.store(0, Ordering::Relaxed);
 }
 
 fn lock() -> std::sync::MutexGuard<'static, Option<Cache>> {
