@@ -73,8 +73,11 @@ fn main() {
         let name = if k == 0 { "seed".into() } else { k.to_string() };
         match result {
             Ok(sim) => println!(
-                "{name} | {ms:.0} | {} | {} | {} | converged",
-                sim.stats.iterations, sim.stats.factorisations, sim.continuation_steps
+                "{name} | {ms:.0} | {} | {} | {} | converged, length {:.4} mm",
+                sim.stats.iterations,
+                sim.stats.factorisations,
+                sim.continuation_steps,
+                sim.inflated_length_mm
             ),
             Err(e) => println!("{name} | {ms:.0} | | | | {e}"),
         }
