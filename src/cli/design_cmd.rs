@@ -37,7 +37,7 @@ pub struct DesignArgs {
     /// Evaluations of a coarse-to-fine polish: a short CMA-ES run on the
     /// verification model after the search (default: the fidelity's, 0/60/120
     /// for draft/standard/fine; `--polish 60` with draft took ten round trips
-    /// from a median 0.55 % to 0.22 % shape error, see BENCHMARKS.md).
+    /// from a median 0.55 % to 0.31 % shape error, see BENCHMARKS.md).
     #[arg(long)]
     polish: Option<usize>,
     /// Weight of the shape error (aligned RMS distance / curve length) added

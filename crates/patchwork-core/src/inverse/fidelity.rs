@@ -58,10 +58,10 @@ impl Fidelity {
     }
 
     /// Evaluations of the coarse-to-fine polish on the verification model.
-    /// Draft skips it to stay fast; with it, draft's ten round trips reach a
-    /// median shape error of 0.22 % instead of 0.55 %, and the Hilbert curve
-    /// 0.81 % instead of 1.24 %, at two to three times the time
-    /// (BENCHMARKS.md).
+    /// Draft skips it to stay fast; with 60, draft's ten round trips reach a
+    /// median shape error of 0.31 % instead of 0.55 %, and the Hilbert curve
+    /// a median 1.15 % over three seeds instead of 1.24 %, at 1.1–1.4 times
+    /// the time (BENCHMARKS.md).
     pub fn polish_budget(self) -> usize {
         match self {
             Fidelity::Draft => 0,
