@@ -44,8 +44,9 @@ pub fn shape_error(
     })
 }
 
-/// The proper rotation R and translation t minimising Σ |R pᵢ + t − qᵢ|².
-fn kabsch(p: &[Point], q: &[Point]) -> (Rotation3<f64>, Point) {
+/// The proper rotation R and translation t minimising Σ |R pᵢ + t − qᵢ|²
+/// (Kabsch). Also used to read a ring's rotation off two FE solutions.
+pub fn kabsch(p: &[Point], q: &[Point]) -> (Rotation3<f64>, Point) {
     let n = p.len() as f64;
     let p_mean = p.iter().sum::<Point>() / n;
     let q_mean = q.iter().sum::<Point>() / n;
