@@ -71,8 +71,9 @@ pub struct DesignArgs {
     #[arg(long)]
     fix_length: bool,
     /// Model fidelity: draft (search on 3 mm rings, verify on 1 mm), standard
-    /// (2 / 1 mm) or fine (1 mm, twice the budget, verify on a uniform 0.5 mm
-    /// mesh); meshes are refined under patches, coarse along bare stretches.
+    /// (2 / 1 mm, polish 60) or fine (draft's search, then a polish of 120
+    /// evaluations on a uniform 0.5 mm mesh, which is also the verification);
+    /// graded meshes are fine under patches, coarse along bare stretches.
     #[arg(long, default_value = "standard")]
     fidelity: Fidelity,
     /// Element size of the search model (mm), overriding the fidelity's with

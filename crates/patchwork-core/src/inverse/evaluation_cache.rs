@@ -76,6 +76,14 @@ pub fn counts() -> CacheCounts {
     }
 }
 
+/// Empties the cache (the counts stay): a benchmark that times runs as a
+/// fresh process would see them calls this before each run — otherwise two
+/// settings sharing a search (draft and fine) would time the second one's
+/// search as all hits.
+pub fn clear() {
+    *lock() = None;
+}
+
 fn lock() -> std::sync::MutexGuard<'static, Option<Cache>> {
     CACHE.lock().unwrap_or_else(|e| e.into_inner())
 }
@@ -128,7 +136,7 @@ mod tests {
     use crate::fe::mesh::MeshSpec;
 
     #[test]
-    fn a_hit_returns_the_same_simulation_and_a_changed_design_misses() {
+    fn a_hit_returns_the_same_simulation_a_changed_design_misses_and_clear_empties() {
         let mut design = Design::reference(vec![Patch {
             x_mm: 0.0,
             y_mm: 30.0,
@@ -157,5 +165,10 @@ mod tests {
         // Other tests may run in parallel: at least our own counts.
         assert!(after.hits > before.hits);
         assert!(after.misses >= before.misses + 2);
+        // Cleared, the cache no longer holds it.
+        let key = format!("{design:?}|{options:?}");
+        assert!(lookup(&key).is_some());
+        clear();
+        assert!(lookup(&key).is_none());
     }
 }
