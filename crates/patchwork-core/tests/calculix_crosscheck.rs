@@ -18,8 +18,8 @@
 //! Compared: the rotation of the tip ring (best-fit rotation of its nodes),
 //! split into the bend angle and the twist about the axis, and the tip's axial
 //! displacement. Tolerance 5 % (issue 3). ccx runs 8-node shells, 16 elements
-//! around; at 32 around its answers move by at most 1 % (the ignored
-//! convergence test below), well within the tolerance.
+//! around; at 32 around its answers move by at most 1 % (BENCHMARKS.md,
+//! "CalculiX cross-check"), well within the tolerance.
 //!
 //! Without `ccx` on the PATH the tests fail and say how to install it; set
 //! `PATCHWORK_SKIP_CALCULIX=1` to skip them knowingly.
@@ -347,41 +347,5 @@ fn a_patch_at_30_degrees_bends_and_twists_the_tube_as_in_calculix() {
             relative(a, b) < TOLERANCE,
             "{what}: Patchwork's mesh limit {a}°, ccx {b}°"
         );
-    }
-}
-
-/// The evidence behind the CI's choices, printed for BENCHMARKS.md: ccx at
-/// 16 and 32 elements around (the patches' edges stay on element edges) and
-/// Patchwork at 0.5, 0.25 and 0.125 mm. Takes about ten minutes:
-/// `cargo test --release -p patchwork-core --test calculix_crosscheck -- --ignored --nocapture`
-#[test]
-#[ignore = "about ten minutes; run by hand for BENCHMARKS.md"]
-fn mesh_convergence_of_both_codes() {
-    for case in [axial_case(), helical_case()] {
-        for around in [16, 32] {
-            if let Some(ccx) = calculix(&case, around) {
-                eprintln!(
-                    "ccx {} {around} around: bend {:.4}° twist {:.4}° elongation {:.4} mm area {:.3} mm² {:.1} s",
-                    case.name,
-                    ccx.bend_deg,
-                    ccx.twist_deg,
-                    ccx.elongation_mm,
-                    ccx.patch_area_mm2,
-                    ccx.seconds
-                );
-            }
-        }
-        for element in [0.5, 0.25, 0.125] {
-            let ours = patchwork(&case, element);
-            eprintln!(
-                "Patchwork {} {element} mm: bend {:.4}° twist {:.4}° elongation {:.4} mm area {:.3} mm² {:.2} s",
-                case.name,
-                ours.bend_deg,
-                ours.twist_deg,
-                ours.elongation_mm,
-                ours.patch_area_mm2,
-                ours.seconds
-            );
-        }
     }
 }
