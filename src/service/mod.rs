@@ -3,6 +3,7 @@
 //! server-sent events. See ARCHITECTURE.md for the request and job lifecycles.
 
 mod auth;
+mod body_limit;
 mod config;
 mod events;
 mod jobs;
@@ -118,6 +119,10 @@ fn app(state: AppState) -> Router {
             .into_response()
         })
         .layer(DefaultBodyLimit::max(body_limit))
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            body_limit::refuse_declared_oversize,
+        ))
         .layer(TraceLayer::new_for_http())
         .layer(cors)
         .with_state(state)

@@ -1,19 +1,29 @@
 //! Where one forward solve of the Hilbert reference scene spends its time:
 //! pattern setup, assembly, numeric factorisation, substitution, line search.
 //!
-//! `cargo run --release -p patchwork-core --example solve_profile -- [element_mm] [straight_mm] [runs]`
+//! `cargo run --release -p patchwork-core --example solve_profile -- [element_mm] [straight_mm] [runs] [average]`
+//!
+//! `average` models cut elements by area average instead of the laminate (the default).
 
 use std::time::Instant;
 
 use patchwork_core::curve::ReferenceCurve;
 use patchwork_core::design::Design;
 use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::{SimulateOptions, simulate};
 use patchwork_core::ksa::{KsaParams, ksa};
 
 fn main() {
-    let args: Vec<f64> = std::env::args()
-        .skip(1)
+    let words: Vec<String> = std::env::args().skip(1).collect();
+    let cut_elements = if words.iter().any(|w| w == "average") {
+        CutElements::AreaAverage
+    } else {
+        CutElements::Laminate
+    };
+    let args: Vec<f64> = words
+        .iter()
+        .filter(|w| *w != "average" && *w != "laminate")
         .map(|a| a.parse().expect("numbers: element_mm [straight_mm] [runs]"))
         .collect();
     let element = args.first().copied().unwrap_or(2.0);
@@ -27,6 +37,7 @@ fn main() {
     };
     let options = SimulateOptions {
         mesh,
+        cut_elements,
         ..SimulateOptions::default()
     };
     println!(

@@ -313,10 +313,13 @@ fn richardson(what: &str, f: [f64; 3]) -> f64 {
     f[2] + (f[2] - f[1]) / (r - 1.0)
 }
 
-/// An oblique patch's edges cut Patchwork's elements, whose stiffness is then
-/// blended by covered area: the answer converges at first order (13 % low in
-/// twist at 0.5 mm, 5 % at 0.125 mm), so the model is compared through its
-/// mesh limit, extrapolated from 0.5, 0.25 and 0.125 mm (8 s).
+/// An oblique patch's edges cut Patchwork's elements. As laminates along the
+/// outline (the default) they converge from above in twist (+4.7 % of the mesh
+/// limit at 0.5 mm, +1.8 % at 0.25, +0.7 % at 0.125; area-averaged cut
+/// elements: −11, −6, −3 %, BENCHMARKS.md "Cut elements"). The model is
+/// compared through its mesh limit, extrapolated from 0.5, 0.25 and 0.125 mm
+/// (8 s), and the 0.25 mm answer itself must be within the tolerance too
+/// (area-averaged cut elements miss it by 8 % in twist).
 #[test]
 fn a_patch_at_30_degrees_bends_and_twists_the_tube_as_in_calculix() {
     let case = helical_case();
@@ -339,13 +342,16 @@ fn a_patch_at_30_degrees_bends_and_twists_the_tube_as_in_calculix() {
     );
     let bend = richardson("Patchwork bend", meshes.each_ref().map(|m| m.bend_deg));
     let twist = richardson("Patchwork twist", meshes.each_ref().map(|m| m.twist_deg));
+    let practical = &meshes[1];
     for (what, a, b) in [
-        ("bend", bend, ccx.bend_deg),
-        ("twist", twist, ccx.twist_deg),
+        ("bend, mesh limit", bend, ccx.bend_deg),
+        ("twist, mesh limit", twist, ccx.twist_deg),
+        ("bend, 0.25 mm", practical.bend_deg, ccx.bend_deg),
+        ("twist, 0.25 mm", practical.twist_deg, ccx.twist_deg),
     ] {
         assert!(
             relative(a, b) < TOLERANCE,
-            "{what}: Patchwork's mesh limit {a}°, ccx {b}°"
+            "{what}: Patchwork {a}°, ccx {b}°"
         );
     }
 }

@@ -6,6 +6,7 @@
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::model::Model;
 use patchwork_core::fe::newton::NewtonOptions;
+use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::volume_control::VolumeSolver;
 use patchwork_core::fe::{SimulateOptions, simulate};
 
@@ -35,7 +36,7 @@ fn volume_controlled_inflation_reaches_the_direct_solution() {
         ..design.clone()
     };
     let start = simulate(&low, &options).expect("5 kPa start");
-    let model = Model::new(&design, start.mesh.clone());
+    let model = Model::new(&design, start.mesh.clone(), CutElements::default());
     let solver = VolumeSolver::new(&model).unwrap();
     let mut x = start.positions.clone();
     let mut pressure = low.pressure_mpa();
@@ -51,7 +52,7 @@ fn volume_controlled_inflation_reaches_the_direct_solution() {
         solver
             .solve(
                 &model,
-                &model.layers,
+                &model.sections,
                 &mut x,
                 &mut pressure,
                 target,

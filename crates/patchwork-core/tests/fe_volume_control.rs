@@ -10,6 +10,7 @@ use patchwork_core::fe::centreline::rings;
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::model::Model;
 use patchwork_core::fe::newton::NewtonOptions;
+use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::volume_control::VolumeSolver;
 use patchwork_core::fe::{SimulateOptions, simulate};
 use patchwork_core::material::Material;
@@ -41,7 +42,7 @@ fn neo_hookean_pressure_maximum_by_volume_control() {
         ..SimulateOptions::default()
     };
     let start = simulate(&design, &options).expect("pressure-controlled start at p = 0.5");
-    let model = Model::new(&design, start.mesh.clone());
+    let model = Model::new(&design, start.mesh.clone(), CutElements::default());
     let solver = VolumeSolver::new(&model).unwrap();
     let mut x = start.positions.clone();
     let mut pressure = design.pressure_mpa();
@@ -57,7 +58,7 @@ fn neo_hookean_pressure_maximum_by_volume_control() {
         let mut trial_pressure = pressure;
         if let Err(e) = solver.solve(
             &model,
-            &model.layers,
+            &model.sections,
             &mut trial,
             &mut trial_pressure,
             target,

@@ -5,14 +5,16 @@
 //! ∇Nₐ. Deformed positions xₐ give the two convected tangents
 //! F₁ = Σ xₐ ∂Nₐ/∂ξ₁, F₂ = Σ xₐ ∂Nₐ/∂ξ₂ and C = [[F₁·F₁, F₁·F₂], [F₁·F₂, F₂·F₂]].
 //!
-//! Energy  Π_e = A₀ Σ_layers t W(C).
+//! Energy  Π_e = A₀ ψ(C), ψ = Σ_layers t W(C) (or a cut element's laminate,
+//!         [`Section::response`]).
 //! Force   fₐ = A₀ Σₖ gₖ ∂cₖ/∂xₐ with ∂c₁₁/∂xₐ = 2Nₐ,₁F₁, ∂c₂₂/∂xₐ = 2Nₐ,₂F₂,
-//!         ∂c₁₂/∂xₐ = Nₐ,₁F₂ + Nₐ,₂F₁ (g = t·∂W/∂c summed over layers).
+//!         ∂c₁₂/∂xₐ = Nₐ,₁F₂ + Nₐ,₂F₁ (g = ∂ψ/∂c).
 //! Tangent Kₐᵦ = A₀ [Σₖₗ Hₖₗ ∂cₖ/∂xₐ ⊗ ∂cₗ/∂xᵦ
 //!               + (2g₁₁Nₐ,₁Nᵦ,₁ + 2g₂₂Nₐ,₂Nᵦ,₂ + g₁₂(Nₐ,₁Nᵦ,₂ + Nₐ,₂Nᵦ,₁)) I].
 
 use nalgebra::{Matrix3, SMatrix};
 
+use super::section::Section;
 use crate::curve::Point;
 use crate::material::Material;
 
@@ -76,13 +78,8 @@ impl Triangle {
     }
 
     /// Energy only; +∞ when any layer is outside its domain.
-    pub fn energy(&self, x: &[Point; 3], layers: &[Layer], materials: &[Material]) -> f64 {
-        let c = self.cauchy_green(x);
-        let mut w = 0.0;
-        for layer in layers {
-            w += layer.thickness * materials[layer.material].energy(c);
-        }
-        self.area * w
+    pub fn energy(&self, x: &[Point; 3], section: &Section, materials: &[Material]) -> f64 {
+        self.area * section.energy(self.cauchy_green(x), materials)
     }
 
     /// Energy, nodal forces (3×3: node a's force is column a) and the 9×9
@@ -90,27 +87,13 @@ impl Triangle {
     pub fn evaluate(
         &self,
         x: &[Point; 3],
-        layers: &[Layer],
+        section: &Section,
         materials: &[Material],
     ) -> Option<(f64, Matrix3<f64>, SMatrix<f64, 9, 9>)> {
         let (f1, f2) = self.tangents(x);
         let c = [f1.dot(&f1), f2.dot(&f2), f1.dot(&f2)];
-        let mut w = 0.0;
-        let mut g = [0.0; 3];
-        let mut h = [[0.0; 3]; 3];
-        for layer in layers {
-            let r = materials[layer.material].response(c);
-            if !r.is_admissible() {
-                return None;
-            }
-            w += layer.thickness * r.energy;
-            for i in 0..3 {
-                g[i] += layer.thickness * r.gradient[i];
-                for (hij, rij) in h[i].iter_mut().zip(&r.hessian[i]) {
-                    *hij += layer.thickness * rij;
-                }
-            }
-        }
+        let r = section.response(c, materials)?;
+        let (w, g, h) = (r.energy, r.gradient, r.hessian);
         let n = &self.grad;
         // dc[a][k] = ∂cₖ/∂xₐ.
         let dc: [[Point; 3]; 3] = [0, 1, 2].map(|a| {

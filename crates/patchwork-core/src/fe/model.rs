@@ -1,29 +1,29 @@
-//! The assembled finite-element model of one design: mesh, per-element layers
-//! (wall and patch shares from exact overlap areas), degrees of freedom and the
+//! The assembled finite-element model of one design: mesh, per-element sections
+//! (wall and patch shares from exact overlap areas; cut elements as laminates
+//! along the patch outline), degrees of freedom and the
 //! total potential Π(x) = Σ_e A₀ Σ t W(C) − P V(x) with its gradient and Hessian.
 
 use faer::sparse::Pair;
 
 use super::element::{Layer, Triangle};
 use super::mesh::TubeMesh;
-use super::overlap::overlap_area;
+use super::overlap::{Interface, patch_cut};
 use super::pressure::{volume, volume_gradient, volume_hessian};
+use super::section::{Cover, CutElements, Section, WALL};
 use crate::curve::Point;
-use crate::design::{Bonding, Design};
+use crate::design::Design;
 use crate::material::Material;
-
-const WALL: usize = 0;
-const PATCH: usize = 1;
 
 /// The model of one design on one mesh.
 #[derive(Debug, Clone)]
 pub struct Model {
     pub mesh: TubeMesh,
     pub triangles: Vec<Triangle>,
-    /// Final layers of each triangle.
-    pub layers: Vec<Vec<Layer>>,
-    /// Layers of the bare tube, for continuation in patch stiffness.
-    bare_layers: Vec<Vec<Layer>>,
+    /// Final section of each triangle.
+    pub sections: Vec<Section>,
+    /// How patches cover each triangle (for sections at other stiffnesses).
+    covers: Vec<Cover>,
+    cut_elements: CutElements,
     pub materials: Vec<Material>,
     /// First DOF of each node, `None` for clamped nodes.
     pub dof: Vec<Option<usize>>,
@@ -34,7 +34,7 @@ pub struct Model {
 }
 
 impl Model {
-    pub fn new(design: &Design, mesh: TubeMesh) -> Model {
+    pub fn new(design: &Design, mesh: TubeMesh, cut_elements: CutElements) -> Model {
         let b = &design.balloon;
         let triangles: Vec<Triangle> = mesh
             .triangles
@@ -52,26 +52,31 @@ impl Model {
             })
             .collect();
         let circumference = mesh.circumference();
-        let mut patch_share = vec![0.0; triangles.len()];
-        for (t, tri) in triangles.iter().enumerate().take(mesh.tube_triangles) {
-            let corners = unrolled_triangle(&mesh, tri.nodes);
-            let covered: f64 = design
-                .patches
-                .iter()
-                .map(|p| overlap_area(&corners, p, circumference))
-                .sum();
-            patch_share[t] = covered / flat_area(&corners);
-        }
-        let bare_layers = vec![
-            vec![Layer {
-                material: WALL,
-                thickness: b.wall_mm
-            }];
-            triangles.len()
-        ];
-        let layers = patch_share
+        let covers: Vec<Cover> = triangles
             .iter()
-            .map(|&share| layers_for(share, 1.0, design))
+            .enumerate()
+            .map(|(t, tri)| {
+                if t >= mesh.tube_triangles {
+                    return Cover::BARE;
+                }
+                let corners = unrolled_triangle(&mesh, tri.nodes);
+                let mut area = 0.0;
+                let mut interface = Interface::default();
+                for patch in &design.patches {
+                    let cut = patch_cut(&corners, patch, circumference);
+                    area += cut.area;
+                    interface.add(&cut.interface);
+                }
+                Cover {
+                    share: area / flat_area(&corners),
+                    normal: local_normal(tri, &corners, interface.normal()),
+                    coherence: interface.coherence(),
+                }
+            })
+            .collect();
+        let sections = covers
+            .iter()
+            .map(|cover| Section::new(cover, 1.0, design, cut_elements))
             .collect();
         let mut dof = vec![None; mesh.nodes.len()];
         let mut next = 0;
@@ -84,27 +89,32 @@ impl Model {
         Model {
             mesh,
             triangles,
-            layers,
-            bare_layers,
+            patch_share: covers.iter().map(|c| c.share).collect(),
+            sections,
+            covers,
+            cut_elements,
             materials: vec![b.material.clone(), design.patch.material.clone()],
             dof,
             dof_count: next,
             pressure: design.pressure_mpa(),
-            patch_share,
         }
     }
 
-    /// Layers with patch stiffness scaled by `s` ∈ [0, 1] (continuation).
-    pub fn layers_at(&self, design: &Design, s: f64) -> Vec<Vec<Layer>> {
+    /// Sections with patch stiffness scaled by `s` ∈ [0, 1] (continuation).
+    pub fn sections_at(&self, design: &Design, s: f64) -> Vec<Section> {
         if s >= 1.0 {
-            return self.layers.clone();
+            return self.sections.clone();
         }
         if s <= 0.0 {
-            return self.bare_layers.clone();
+            let wall = Layer {
+                material: WALL,
+                thickness: design.balloon.wall_mm,
+            };
+            return vec![Section::uniform(vec![wall]); self.covers.len()];
         }
-        self.patch_share
+        self.covers
             .iter()
-            .map(|&share| layers_for(share, s, design))
+            .map(|cover| Section::new(cover, s, design, self.cut_elements))
             .collect()
     }
 
@@ -160,10 +170,10 @@ impl Model {
     }
 
     /// Total potential Π; +∞ outside the materials' domain.
-    pub fn potential(&self, x: &[Point], layers: &[Vec<Layer>]) -> f64 {
+    pub fn potential(&self, x: &[Point], sections: &[Section]) -> f64 {
         let mut strain = 0.0;
         for (t, tri) in self.triangles.iter().enumerate() {
-            strain += tri.energy(&self.corners(x, t), &layers[t], &self.materials);
+            strain += tri.energy(&self.corners(x, t), &sections[t], &self.materials);
             if !strain.is_finite() {
                 return f64::INFINITY;
             }
@@ -212,12 +222,12 @@ impl Model {
     pub fn assemble(
         &self,
         x: &[Point],
-        layers: &[Vec<Layer>],
+        sections: &[Section],
         shift: f64,
         gradient: &mut [f64],
         values: &mut Vec<f64>,
     ) -> Option<f64> {
-        self.assemble_at(x, layers, self.pressure, shift, gradient, values)
+        self.assemble_at(x, sections, self.pressure, shift, gradient, values)
     }
 
     /// [`Model::assemble`] at an explicit pressure (MPa): volume control treats
@@ -225,7 +235,7 @@ impl Model {
     pub fn assemble_at(
         &self,
         x: &[Point],
-        layers: &[Vec<Layer>],
+        sections: &[Section],
         pressure: f64,
         shift: f64,
         gradient: &mut [f64],
@@ -236,7 +246,7 @@ impl Model {
         let mut potential = 0.0;
         for (t, tri) in self.triangles.iter().enumerate() {
             let corners = self.corners(x, t);
-            let (w, force, mut k) = tri.evaluate(&corners, &layers[t], &self.materials)?;
+            let (w, force, mut k) = tri.evaluate(&corners, &sections[t], &self.materials)?;
             let dv = volume_gradient(&corners);
             k -= pressure * volume_hessian(&corners);
             potential += w - pressure * volume(&corners);
@@ -254,38 +264,22 @@ impl Model {
     }
 }
 
-fn layers_for(share: f64, s: f64, design: &Design) -> Vec<Layer> {
-    let wall = design.balloon.wall_mm;
-    let patch = design.patch.thickness_mm;
-    match design.patch.bonding {
-        Bonding::Replace => {
-            // Overlapping patches cannot remove more than all of the wall.
-            let share = share.min(1.0) * s;
-            let mut layers = vec![Layer {
-                material: WALL,
-                thickness: wall * (1.0 - share),
-            }];
-            if share > 0.0 {
-                layers.push(Layer {
-                    material: PATCH,
-                    thickness: patch * share,
-                });
-            }
-            layers
-        }
-        Bonding::Laminate => {
-            let mut layers = vec![Layer {
-                material: WALL,
-                thickness: wall,
-            }];
-            if share > 0.0 {
-                layers.push(Layer {
-                    material: PATCH,
-                    thickness: patch * share * s,
-                });
-            }
-            layers
-        }
+/// A normal given in the unrolled plane, in the triangle's local frame. The
+/// affine map from unrolled to local coordinates, M = L U⁻¹ (edge vectors),
+/// takes normals by M⁻ᵀ = L⁻ᵀ Uᵀ, and L⁻ᵀ's columns are ∇N₁, ∇N₂.
+fn local_normal(tri: &Triangle, corners: &[[f64; 2]; 3], normal: [f64; 2]) -> [f64; 2] {
+    let mut n = [0.0; 2];
+    for a in 1..3 {
+        let along = (corners[a][0] - corners[0][0]) * normal[0]
+            + (corners[a][1] - corners[0][1]) * normal[1];
+        n[0] += along * tri.grad[a][0];
+        n[1] += along * tri.grad[a][1];
+    }
+    let norm = n[0].hypot(n[1]);
+    if norm > 0.0 {
+        [n[0] / norm, n[1] / norm]
+    } else {
+        [1.0, 0.0]
     }
 }
 

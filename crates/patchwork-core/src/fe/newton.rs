@@ -14,8 +14,8 @@ use std::time::{Duration, Instant};
 
 use faer::sparse::Pair;
 
-use super::element::Layer;
 use super::model::Model;
+use super::section::Section;
 use super::tangent_factor::{TangentFactor, TangentPattern};
 use crate::curve::Point;
 
@@ -133,7 +133,7 @@ impl Solver {
     pub fn solve(
         &self,
         model: &Model,
-        layers: &[Vec<Layer>],
+        sections: &[Section],
         x: &mut Vec<Point>,
         options: &NewtonOptions,
     ) -> Result<SolveStats, SolveError> {
@@ -153,7 +153,7 @@ impl Solver {
             let potential = model
                 .assemble(
                     &model.positions(&u),
-                    layers,
+                    sections,
                     0.0,
                     &mut gradient,
                     &mut values,
@@ -206,7 +206,7 @@ impl Solver {
                     residual,
                 });
             }
-            let searched = line_search(model, layers, &u, &step, potential, slope);
+            let searched = line_search(model, sections, &u, &step, potential, slope);
             stats.line_search_time += t3.elapsed();
             match searched {
                 Some(next) => u = next,
@@ -312,7 +312,7 @@ fn factor_with_shift(
 /// noise, from being rejected. Far from equilibrium real decreases dwarf it.
 fn line_search(
     model: &Model,
-    layers: &[Vec<Layer>],
+    sections: &[Section],
     u: &[f64],
     step: &[f64],
     potential: f64,
@@ -322,7 +322,7 @@ fn line_search(
     let allowance = 1e-11 * potential.abs();
     while t > 1e-10 {
         let trial: Vec<f64> = u.iter().zip(step).map(|(a, s)| a + t * s).collect();
-        let value = model.potential(&model.positions(&trial), layers);
+        let value = model.potential(&model.positions(&trial), sections);
         if value.is_finite() && value <= potential + 1e-4 * t * slope + allowance {
             return Some(trial);
         }

@@ -13,19 +13,73 @@ type P2 = [f64; 2];
 /// Area of the part of `triangle` (unrolled coordinates, mm) covered by
 /// `patch`, accounting for the periodic seam at `circumference`.
 pub fn overlap_area(triangle: &[P2; 3], patch: &Patch, circumference: f64) -> f64 {
+    patch_cut(triangle, patch, circumference).area
+}
+
+/// How a patch cuts a triangle: the covered area and the patch outline inside
+/// the triangle, summarised as an orientation.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Cut {
+    pub area: f64,
+    pub interface: Interface,
+}
+
+/// The pieces of patch outline inside a triangle, each of length ℓᵢ with unit
+/// normal at angle αᵢ (unrolled plane), summed as `length` = Σℓᵢ and the
+/// doubled-angle vector `orientation` = Σℓᵢ (cos 2αᵢ, sin 2αᵢ). Doubling the
+/// angle makes a normal and its opposite the same direction, so the two long
+/// sides of a strip reinforce; two perpendicular sides of equal length cancel.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Interface {
+    pub length: f64,
+    pub orientation: P2,
+}
+
+impl Interface {
+    pub fn add(&mut self, other: &Interface) {
+        self.length += other.length;
+        self.orientation[0] += other.orientation[0];
+        self.orientation[1] += other.orientation[1];
+    }
+
+    /// |Σℓᵢ e^{2iαᵢ}| / Σℓᵢ ∈ [0, 1]: 1 for a straight cut (one direction),
+    /// 0 when the directions cancel (or there is no outline).
+    pub fn coherence(&self) -> f64 {
+        if self.length <= 0.0 {
+            return 0.0;
+        }
+        (self.orientation[0].hypot(self.orientation[1]) / self.length).min(1.0)
+    }
+
+    /// The mean outline normal (unit vector, sign arbitrary).
+    pub fn normal(&self) -> P2 {
+        let half = 0.5 * self.orientation[1].atan2(self.orientation[0]);
+        [half.cos(), half.sin()]
+    }
+}
+
+/// [`overlap_area`] together with the patch outline inside the triangle: the
+/// edges of the clipped polygon that lie on one of the patch's sides.
+pub fn patch_cut(triangle: &[P2; 3], patch: &Patch, circumference: f64) -> Cut {
     let (sin, cos) = patch.theta().sin_cos();
     // Long axis makes angle Θ with the balloon axis (Y): u = (sin Θ, cos Θ).
     let u = [sin, cos];
     let v = [cos, -sin];
     let (hh, hw) = (0.5 * patch.h_mm, 0.5 * patch.w_mm);
+    let scale = triangle
+        .iter()
+        .map(|p| p[0].abs().max(p[1].abs()))
+        .fold(circumference, f64::max);
+    let on_line = 1e-9 * scale;
     // The patch and its images one circumference either side.
-    let mut total = 0.0;
+    let mut cut = Cut::default();
     for shift in [-circumference, 0.0, circumference] {
         let centre = [patch.x_mm + shift, patch.y_mm];
         if !bounding_boxes_meet(triangle, centre, u, v, hh, hw) {
             continue;
         }
         let mut polygon: Vec<P2> = triangle.to_vec();
+        let mut sides = Vec::with_capacity(4);
         for (axis, half) in [(u, hh), (v, hw)] {
             for sign in [1.0, -1.0] {
                 // Keep points with sign·(p − centre)·axis ≤ half.
@@ -35,11 +89,26 @@ pub fn overlap_area(triangle: &[P2; 3], patch: &Patch, circumference: f64) -> f6
                 if polygon.is_empty() {
                     break;
                 }
+                sides.push((normal, offset));
             }
         }
-        total += area(&polygon);
+        cut.area += area(&polygon);
+        for (normal, offset) in sides {
+            let distance = |p: &P2| (normal[0] * p[0] + normal[1] * p[1] - offset).abs();
+            for i in 0..polygon.len() {
+                let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
+                if distance(&a) <= on_line && distance(&b) <= on_line {
+                    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+                    let doubled = 2.0 * normal[1].atan2(normal[0]);
+                    cut.interface.add(&Interface {
+                        length,
+                        orientation: [length * doubled.cos(), length * doubled.sin()],
+                    });
+                }
+            }
+        }
     }
-    total
+    cut
 }
 
 fn bounding_boxes_meet(tri: &[P2; 3], centre: P2, u: P2, v: P2, hh: f64, hw: f64) -> bool {
@@ -144,6 +213,39 @@ mod tests {
             }
             assert!((total - 20.0).abs() < 1e-9, "x {x} Θ {theta}: {total}");
         }
+    }
+
+    #[test]
+    fn straight_cut_has_one_direction() {
+        // Unit square's lower triangle, cut by the patch's side x = 0.5.
+        let tri = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]];
+        let cut = patch_cut(&tri, &patch(0.0, 0.5, 10.0, 1.0, 0.0), 100.0);
+        assert!((cut.area - 0.125).abs() < 1e-12);
+        assert!((cut.interface.length - 0.5).abs() < 1e-12);
+        assert!((cut.interface.coherence() - 1.0).abs() < 1e-12);
+        assert!((cut.interface.normal()[0].abs() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn oblique_strip_through_a_triangle_keeps_its_direction() {
+        // A 30° strip narrower than the triangle: both long sides cross it, with
+        // opposite normals that must not cancel.
+        let tri = [[-5.0, -5.0], [5.0, -5.0], [0.0, 5.0]];
+        let cut = patch_cut(&tri, &patch(0.0, 0.0, 40.0, 1.0, 30.0), 100.0);
+        assert!((cut.interface.coherence() - 1.0).abs() < 1e-12);
+        let n = cut.interface.normal();
+        // Long axis u = (sin 30°, cos 30°); the sides' normal is ⊥ u.
+        assert!((n[0] * 0.5 + n[1] * 0.75f64.sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn square_corner_cancels_its_directions() {
+        // The patch's corner (0, 0) sits on the triangle's symmetry line y = x:
+        // two perpendicular sides of equal length (2) inside.
+        let tri = [[-4.0, -4.0], [2.0, -1.0], [-1.0, 2.0]];
+        let cut = patch_cut(&tri, &patch(-5.0, -5.0, 10.0, 10.0, 0.0), 100.0);
+        assert!((cut.interface.length - 4.0).abs() < 1e-12);
+        assert!(cut.interface.coherence() < 1e-12);
     }
 
     #[test]

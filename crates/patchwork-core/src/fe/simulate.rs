@@ -8,6 +8,7 @@ use super::kinematic::kinematic_state;
 use super::mesh::{MeshSpec, TubeMesh};
 use super::model::Model;
 use super::newton::{NewtonOptions, SolveError, SolveStats, Solver};
+use super::section::CutElements;
 use super::tube_theory::{TubeState, inflate_tube};
 use crate::curve::{AnalysisOptions, Curve, Point, analyse};
 use crate::design::{Design, DesignError};
@@ -27,6 +28,8 @@ pub struct SimulateOptions {
     pub newton: NewtonOptions,
     /// Smallest continuation step in patch stiffness before giving up.
     pub min_continuation_step: f64,
+    /// How elements cut by a patch outline are modelled.
+    pub cut_elements: CutElements,
 }
 
 impl Default for SimulateOptions {
@@ -36,6 +39,7 @@ impl Default for SimulateOptions {
             rings: 72,
             newton: NewtonOptions::default(),
             min_continuation_step: 1.0 / 64.0,
+            cut_elements: CutElements::default(),
         }
     }
 }
@@ -122,7 +126,7 @@ pub fn simulate_from(
             pressure_kpa: design.pressure_kpa,
         })?;
     let mesh = TubeMesh::for_design(design, options.mesh);
-    let model = Model::new(design, mesh);
+    let model = Model::new(design, mesh, options.cut_elements);
     let setup = Instant::now();
     let solver = Solver::new(&model).map_err(|reason| SimulateError::Solve {
         stiffness: 0.0,
@@ -143,7 +147,7 @@ pub fn simulate_from(
     .flatten();
     let solved = warm.into_iter().chain(kinematic).find_map(|mut x| {
         let s = solver
-            .solve(&model, &model.layers, &mut x, &options.newton)
+            .solve(&model, &model.sections, &mut x, &options.newton)
             .ok()?;
         Some((x, s))
     });
@@ -164,9 +168,9 @@ pub fn simulate_from(
     let (mut done, mut step) = (0.0_f64, 1.0_f64);
     while done < 1.0 {
         let target = (done + step).min(1.0);
-        let layers = model.layers_at(design, target);
+        let sections = model.sections_at(design, target);
         let mut trial = x.clone();
-        match solver.solve(&model, &layers, &mut trial, &options.newton) {
+        match solver.solve(&model, &sections, &mut trial, &options.newton) {
             Ok(s) => {
                 steps += 1;
                 stats.accumulate(&s);

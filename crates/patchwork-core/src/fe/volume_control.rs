@@ -19,9 +19,9 @@ use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 
-use super::element::Layer;
 use super::model::Model;
 use super::newton::{NewtonOptions, SolveError, norm};
+use super::section::Section;
 use crate::curve::Point;
 
 /// Sparse structures for volume-controlled solves of one model (full pattern,
@@ -67,7 +67,7 @@ impl VolumeSolver {
     pub fn solve(
         &self,
         model: &Model,
-        layers: &[Vec<Layer>],
+        sections: &[Section],
         x: &mut Vec<Point>,
         pressure: &mut f64,
         target: f64,
@@ -83,7 +83,7 @@ impl VolumeSolver {
                            values: &mut Vec<f64>|
          -> Option<(f64, f64)> {
             let positions = model.positions(u);
-            model.assemble_at(&positions, layers, p, 0.0, gradient, values)?;
+            model.assemble_at(&positions, sections, p, 0.0, gradient, values)?;
             let scale = p.abs().max(1e-6) * norm(&model.volume_gradient(&positions));
             let dv = (model.volume(&positions) - target) / target;
             Some((norm(gradient) / scale, dv))

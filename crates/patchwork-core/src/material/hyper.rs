@@ -1,5 +1,6 @@
-//! A second-order forward-mode automatic-differentiation number in three
-//! variables: value, gradient and (symmetric) Hessian carried together.
+//! A second-order forward-mode automatic-differentiation number in N
+//! variables (three by default: c₁₁, c₂₂, c₁₂): value, gradient and
+//! (symmetric) Hessian carried together.
 //!
 //! Materials write their strain energy once, generically, as a function of the
 //! in-plane right Cauchy–Green components (c₁₁, c₂₂, c₁₂); evaluating it on
@@ -58,7 +59,7 @@ impl Real for f64 {
     }
 }
 
-impl Real for Hyper {
+impl<const N: usize> Real for Hyper<N> {
     fn constant(value: f64) -> Self {
         Hyper::constant(value)
     }
@@ -83,18 +84,18 @@ impl Real for Hyper {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Hyper {
+pub struct Hyper<const N: usize = 3> {
     pub value: f64,
-    pub gradient: [f64; 3],
-    pub hessian: [[f64; 3]; 3],
+    pub gradient: [f64; N],
+    pub hessian: [[f64; N]; N],
 }
 
-impl Hyper {
+impl<const N: usize> Hyper<N> {
     pub fn constant(value: f64) -> Self {
         Hyper {
             value,
-            gradient: [0.0; 3],
-            hessian: [[0.0; 3]; 3],
+            gradient: [0.0; N],
+            hessian: [[0.0; N]; N],
         }
     }
 
@@ -108,9 +109,9 @@ impl Hyper {
     /// g(self) given g, g′, g″ at self.value (the chain rule to second order).
     fn chain(self, g: f64, dg: f64, d2g: f64) -> Self {
         let mut out = Hyper::constant(g);
-        for i in 0..3 {
+        for i in 0..N {
             out.gradient[i] = dg * self.gradient[i];
-            for j in 0..3 {
+            for j in 0..N {
                 out.hessian[i][j] =
                     dg * self.hessian[i][j] + d2g * self.gradient[i] * self.gradient[j];
             }
@@ -153,13 +154,13 @@ impl Hyper {
     }
 }
 
-impl Add for Hyper {
-    type Output = Hyper;
-    fn add(mut self, o: Hyper) -> Hyper {
+impl<const N: usize> Add for Hyper<N> {
+    type Output = Hyper<N>;
+    fn add(mut self, o: Hyper<N>) -> Hyper<N> {
         self.value += o.value;
-        for i in 0..3 {
+        for i in 0..N {
             self.gradient[i] += o.gradient[i];
-            for j in 0..3 {
+            for j in 0..N {
                 self.hessian[i][j] += o.hessian[i][j];
             }
         }
@@ -167,27 +168,27 @@ impl Add for Hyper {
     }
 }
 
-impl Neg for Hyper {
-    type Output = Hyper;
-    fn neg(self) -> Hyper {
+impl<const N: usize> Neg for Hyper<N> {
+    type Output = Hyper<N>;
+    fn neg(self) -> Hyper<N> {
         self * -1.0
     }
 }
 
-impl Sub for Hyper {
-    type Output = Hyper;
-    fn sub(self, o: Hyper) -> Hyper {
+impl<const N: usize> Sub for Hyper<N> {
+    type Output = Hyper<N>;
+    fn sub(self, o: Hyper<N>) -> Hyper<N> {
         self + (-o)
     }
 }
 
-impl Mul for Hyper {
-    type Output = Hyper;
-    fn mul(self, o: Hyper) -> Hyper {
+impl<const N: usize> Mul for Hyper<N> {
+    type Output = Hyper<N>;
+    fn mul(self, o: Hyper<N>) -> Hyper<N> {
         let mut out = Hyper::constant(self.value * o.value);
-        for i in 0..3 {
+        for i in 0..N {
             out.gradient[i] = self.gradient[i] * o.value + self.value * o.gradient[i];
-            for j in 0..3 {
+            for j in 0..N {
                 out.hessian[i][j] = self.hessian[i][j] * o.value
                     + self.value * o.hessian[i][j]
                     + self.gradient[i] * o.gradient[j]
@@ -198,36 +199,36 @@ impl Mul for Hyper {
     }
 }
 
-impl Div for Hyper {
-    type Output = Hyper;
-    fn div(self, o: Hyper) -> Hyper {
+impl<const N: usize> Div for Hyper<N> {
+    type Output = Hyper<N>;
+    fn div(self, o: Hyper<N>) -> Hyper<N> {
         let x = o.value;
         self * o.chain(1.0 / x, -1.0 / (x * x), 2.0 / (x * x * x))
     }
 }
 
-impl Add<f64> for Hyper {
-    type Output = Hyper;
-    fn add(mut self, c: f64) -> Hyper {
+impl<const N: usize> Add<f64> for Hyper<N> {
+    type Output = Hyper<N>;
+    fn add(mut self, c: f64) -> Hyper<N> {
         self.value += c;
         self
     }
 }
 
-impl Sub<f64> for Hyper {
-    type Output = Hyper;
-    fn sub(self, c: f64) -> Hyper {
+impl<const N: usize> Sub<f64> for Hyper<N> {
+    type Output = Hyper<N>;
+    fn sub(self, c: f64) -> Hyper<N> {
         self + (-c)
     }
 }
 
-impl Mul<f64> for Hyper {
-    type Output = Hyper;
-    fn mul(mut self, c: f64) -> Hyper {
+impl<const N: usize> Mul<f64> for Hyper<N> {
+    type Output = Hyper<N>;
+    fn mul(mut self, c: f64) -> Hyper<N> {
         self.value *= c;
-        for i in 0..3 {
+        for i in 0..N {
             self.gradient[i] *= c;
-            for j in 0..3 {
+            for j in 0..N {
                 self.hessian[i][j] *= c;
             }
         }
@@ -235,9 +236,9 @@ impl Mul<f64> for Hyper {
     }
 }
 
-impl Div<f64> for Hyper {
-    type Output = Hyper;
-    fn div(self, c: f64) -> Hyper {
+impl<const N: usize> Div<f64> for Hyper<N> {
+    type Output = Hyper<N>;
+    fn div(self, c: f64) -> Hyper<N> {
         self * (1.0 / c)
     }
 }

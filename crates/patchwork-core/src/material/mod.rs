@@ -117,6 +117,13 @@ impl Material {
         }
     }
 
+    /// W in any [`hyper::Real`] number type: a caller composing C from other
+    /// variables (a laminate's phases) gets W's derivatives in those variables.
+    /// `None` outside the domain.
+    pub fn energy_in<T: hyper::Real>(&self, c: [T; 3]) -> Option<T> {
+        models::energy(self, c).filter(|w| hyper::Real::value(w).is_finite())
+    }
+
     /// W only, in plain `f64` arithmetic (the line search's hot path); +∞
     /// outside the domain.
     pub fn energy(&self, c: [f64; 3]) -> f64 {
