@@ -3,12 +3,14 @@
 //! 300 mm balloon): uniform meshes, graded meshes (local refinement) and finer
 //! cross-sections, each against a uniform 0.5 mm solution.
 //!
-//! `cargo run --release -p patchwork-core --example mesh_study [runs]`
+//! `cargo run --release -p patchwork-core --example mesh_study [runs] [average]`
 //! (about five minutes with the default three runs; times are medians).
+//! `average` models cut elements by area average instead of the laminate.
 
 use patchwork_core::curve::{Point, ReferenceCurve};
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
 use patchwork_core::ksa::{KsaParams, ksa};
 
@@ -38,7 +40,7 @@ fn largest_gap(a: &[Point], b: &[Point]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn study(name: &str, design: &Design, meshes: &[MeshSpec], runs: usize) {
+fn study(name: &str, design: &Design, meshes: &[MeshSpec], runs: usize, cut_elements: CutElements) {
     println!("\n{name}\n");
     println!(
         "| mesh | rings | unknowns | Newton its | solve s (median of {runs}) | inflated length mm | largest centreline gap to 0.5 mm (mm) |"
@@ -48,6 +50,7 @@ fn study(name: &str, design: &Design, meshes: &[MeshSpec], runs: usize) {
         design,
         &SimulateOptions {
             mesh: MeshSpec::uniform(0.5),
+            cut_elements,
             ..SimulateOptions::default()
         },
     )
@@ -55,6 +58,7 @@ fn study(name: &str, design: &Design, meshes: &[MeshSpec], runs: usize) {
     for mesh in meshes {
         let options = SimulateOptions {
             mesh: *mesh,
+            cut_elements,
             ..SimulateOptions::default()
         };
         let mut times = Vec::new();
@@ -92,6 +96,12 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(3);
+    let cut_elements = if std::env::args().any(|a| a == "average") {
+        CutElements::AreaAverage
+    } else {
+        CutElements::Laminate
+    };
+    println!("cut elements: {cut_elements:?}");
     let seed = ksa(&ReferenceCurve::Hilbert.curve(), &KsaParams::default()).expect("valid");
     let hilbert = Design::reference(seed.patches);
     study(
@@ -106,6 +116,7 @@ fn main() {
             MeshSpec::graded(1.0, 4.0),
         ],
         runs,
+        cut_elements,
     );
     let sparse = Design {
         balloon: Balloon {
@@ -133,5 +144,6 @@ fn main() {
             MeshSpec::graded(0.5, 4.0),
         ],
         runs,
+        cut_elements,
     );
 }

@@ -77,7 +77,7 @@ impl Laminate {
         let [c11, c22, c12, a1, a2] = [0, 1, 2, 3, 4].map(|k| Hyper::<5>::variable(z[k], k));
         let phi = self.potential([c11, c22, c12], [a1, a2], materials)?;
         let h = &phi.hessian;
-        let inverse = shifted_inverse([[h[3][3], h[3][4]], [h[4][3], h[4][4]]]);
+        let inverse = shifted_inverse([[h[3][3], h[3][4]], [h[4][3], h[4][4]]])?;
         let mut hessian = [[0.0; 3]; 3];
         for (i, row) in hessian.iter_mut().enumerate() {
             for (k, entry) in row.iter_mut().enumerate() {
@@ -123,7 +123,7 @@ impl Laminate {
             if residual <= tolerance {
                 break;
             }
-            let inverse = shifted_inverse(phi.hessian);
+            let inverse = shifted_inverse(phi.hessian)?;
             let step = [
                 -(inverse[0][0] * r[0] + inverse[0][1] * r[1]),
                 -(inverse[1][0] * r[0] + inverse[1][1] * r[1]),
@@ -184,15 +184,16 @@ impl Laminate {
 }
 
 /// (J + σI)⁻¹ for the smallest σ ≥ 0 on a ladder that makes J + σI positive
-/// definite (σ = 0 whenever J already is).
-fn shifted_inverse(j: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+/// definite (σ = 0 whenever J already is); `None` for a J no shift mends
+/// (not finite).
+fn shifted_inverse(j: [[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
     let scale = j[0][0].abs().max(j[1][1].abs()).max(f64::MIN_POSITIVE);
     let mut shift = 0.0;
-    loop {
+    for _ in 0..40 {
         let (a, b, d) = (j[0][0] + shift, 0.5 * (j[0][1] + j[1][0]), j[1][1] + shift);
         let det = a * d - b * b;
         if a > 0.0 && det > 1e-14 * a * d {
-            return [[d / det, -b / det], [-b / det, a / det]];
+            return Some([[d / det, -b / det], [-b / det, a / det]]);
         }
         shift = if shift == 0.0 {
             1e-10 * scale
@@ -200,6 +201,7 @@ fn shifted_inverse(j: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
             10.0 * shift
         };
     }
+    None
 }
 
 #[cfg(test)]

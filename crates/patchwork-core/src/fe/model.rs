@@ -1,7 +1,8 @@
 //! The assembled finite-element model of one design: mesh, per-element sections
 //! (wall and patch shares from exact overlap areas; cut elements as laminates
-//! along the patch outline), degrees of freedom and the
-//! total potential Π(x) = Σ_e A₀ Σ t W(C) − P V(x) with its gradient and Hessian.
+//! along the patch outline), degrees of freedom and the total potential
+//! Π(x) = Σ_e A₀ ψ_e(C) − P V(x) (ψ = Σ t W for an uncut element) with its
+//! gradient and Hessian.
 
 use faer::sparse::Pair;
 
