@@ -6,7 +6,7 @@
 
 use std::f64::consts::TAU;
 
-use patchwork_core::curve::{Point, kabsch};
+use patchwork_core::curve::bend_and_twist;
 use patchwork_core::design::{Balloon, Bonding, Design, Patch, PatchSpec};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::section::CutElements;
@@ -39,16 +39,6 @@ fn strip_design() -> Design {
     }
 }
 
-/// Bend and twist (degrees) of the best-fit rotation of a ring.
-fn ring_rotation(reference: &[Point], deformed: &[Point]) -> (f64, f64) {
-    let (rotation, _) = kabsch(reference, deformed);
-    let r = rotation.matrix();
-    let bend = r[(2, 2)].clamp(-1.0, 1.0).acos().to_degrees();
-    let w = (1.0 + r.trace()).max(0.0).sqrt() / 2.0;
-    let z = (r[(1, 0)] - r[(0, 1)]) / (4.0 * w);
-    (bend, (2.0 * z.atan2(w)).to_degrees())
-}
-
 fn main() {
     let sizes: Vec<f64> = std::env::args()
         .nth(1)
@@ -70,7 +60,7 @@ fn main() {
                     let tip = sim.mesh.ring_y.len() - 1;
                     let ring = tip * sim.mesh.around..(tip + 1) * sim.mesh.around;
                     let (bend, twist) =
-                        ring_rotation(&sim.mesh.nodes[ring.clone()], &sim.positions[ring]);
+                        bend_and_twist(&sim.mesh.nodes[ring.clone()], &sim.positions[ring]);
                     println!(
                         "{:<12} {h:6.3} {bend:10.4} {twist:10.4} {:7} {:6} {:7.2}",
                         format!("{rule:?}"),

@@ -29,7 +29,7 @@ mod calculix;
 use std::f64::consts::TAU;
 use std::path::PathBuf;
 
-use patchwork_core::curve::{Point, kabsch};
+use patchwork_core::curve::{Point, bend_and_twist};
 use patchwork_core::design::{Balloon, Bonding, Design, Patch, PatchSpec};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
@@ -135,18 +135,6 @@ fn helical_case() -> Case {
     }
 }
 
-/// Bend angle and twist about the axis (degrees) of the best-fit rotation
-/// taking a ring's reference nodes to its deformed nodes. The twist is the
-/// swing–twist decomposition's angle about z.
-fn ring_rotation(reference: &[Point], deformed: &[Point]) -> (f64, f64) {
-    let (rotation, _) = kabsch(reference, deformed);
-    let r = rotation.matrix();
-    let bend = r[(2, 2)].clamp(-1.0, 1.0).acos().to_degrees();
-    let w = (1.0 + r.trace()).max(0.0).sqrt() / 2.0;
-    let z = (r[(1, 0)] - r[(0, 1)]) / (4.0 * w);
-    (bend, (2.0 * z.atan2(w)).to_degrees())
-}
-
 struct Answer {
     bend_deg: f64,
     twist_deg: f64,
@@ -157,7 +145,7 @@ struct Answer {
 }
 
 fn tip_ring_answer(reference: &[Point], deformed: &[Point], area: f64, seconds: f64) -> Answer {
-    let (bend_deg, twist_deg) = ring_rotation(reference, deformed);
+    let (bend_deg, twist_deg) = bend_and_twist(reference, deformed);
     let mean = |p: &[Point]| p.iter().sum::<Point>() / p.len() as f64;
     Answer {
         bend_deg,

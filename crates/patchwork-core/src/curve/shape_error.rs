@@ -68,6 +68,19 @@ pub fn kabsch(p: &[Point], q: &[Point]) -> (Rotation3<f64>, Point) {
     (rotation, translation)
 }
 
+/// Bend angle and twist about the z axis (degrees) of the best-fit rotation
+/// taking `reference` points (a cross-section ring) to `deformed`: the bend is
+/// the angle between the rotated and the original z axis, the twist the
+/// swing–twist decomposition's angle about z.
+pub fn bend_and_twist(reference: &[Point], deformed: &[Point]) -> (f64, f64) {
+    let (rotation, _) = kabsch(reference, deformed);
+    let r = rotation.matrix();
+    let bend = r[(2, 2)].clamp(-1.0, 1.0).acos().to_degrees();
+    let w = (1.0 + r.trace()).max(0.0).sqrt() / 2.0;
+    let z = (r[(1, 0)] - r[(0, 1)]) / (4.0 * w);
+    (bend, (2.0 * z.atan2(w)).to_degrees())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
