@@ -96,11 +96,10 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(3);
-    let cut_elements = if std::env::args().any(|a| a == "average") {
-        CutElements::AreaAverage
-    } else {
-        CutElements::Laminate
-    };
+    let cut_elements: CutElements = std::env::args()
+        .nth(2)
+        .map_or(Ok(CutElements::Laminate), |w| w.parse())
+        .unwrap_or_else(|e| panic!("{e}"));
     println!("cut elements: {cut_elements:?}");
     let seed = ksa(&ReferenceCurve::Hilbert.curve(), &KsaParams::default()).expect("valid");
     let hilbert = Design::reference(seed.patches);

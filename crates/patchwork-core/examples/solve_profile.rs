@@ -15,16 +15,17 @@ use patchwork_core::fe::{SimulateOptions, simulate};
 use patchwork_core::ksa::{KsaParams, ksa};
 
 fn main() {
-    let words: Vec<String> = std::env::args().skip(1).collect();
-    let cut_elements = if words.iter().any(|w| w == "average") {
-        CutElements::AreaAverage
-    } else {
-        CutElements::Laminate
-    };
-    let args: Vec<f64> = words
+    // Numbers are element_mm [straight_mm] [runs]; a word names the cut-element rule.
+    let (words, numbers): (Vec<String>, Vec<String>) = std::env::args()
+        .skip(1)
+        .partition(|a| a.parse::<f64>().is_err());
+    let cut_elements: CutElements = words
+        .first()
+        .map_or(Ok(CutElements::Laminate), |w| w.parse())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let args: Vec<f64> = numbers
         .iter()
-        .filter(|w| *w != "average" && *w != "laminate")
-        .map(|a| a.parse().expect("numbers: element_mm [straight_mm] [runs]"))
+        .map(|a| a.parse().expect("a number"))
         .collect();
     let element = args.first().copied().unwrap_or(2.0);
     let straight = args.get(1).copied().filter(|s| *s > 0.0);

@@ -56,12 +56,39 @@ pub struct Laminate {
     pub covered: Vec<Layer>,
     /// Layers of the bare phase.
     pub bare: Vec<Layer>,
+    /// The inner Newton's tolerance on r = ∂Φ/∂α (N/mm), from the phases'
+    /// stiffness: fixed per element, so set once here.
+    tolerance: f64,
 }
 
 /// Inner Newton iterations before the last iterate is accepted.
 const MAX_ITERATIONS: usize = 40;
 
 impl Laminate {
+    pub fn new(
+        share: f64,
+        normal: [f64; 2],
+        covered: Vec<Layer>,
+        bare: Vec<Layer>,
+        materials: &[Material],
+    ) -> Laminate {
+        // r ~ φ(1 − φ) μt × strain: converged when that strain is below 1e-12
+        // (a relative test on Φ fails near the unstrained state, where Φ is
+        // small against the rounding of its terms).
+        let stiffness: f64 = covered
+            .iter()
+            .chain(&bare)
+            .map(|l| l.thickness * materials[l.material].shear_modulus())
+            .sum();
+        Laminate {
+            share,
+            normal,
+            covered,
+            bare,
+            tolerance: 1e-12 * share * (1.0 - share) * stiffness,
+        }
+    }
+
     /// ψ(C) only; +∞ outside the materials' domain.
     pub fn energy(&self, c: [f64; 3], materials: &[Material]) -> f64 {
         self.minimise(c, materials)
@@ -107,20 +134,10 @@ impl Laminate {
         };
         let mut alpha = [0.0; 2];
         let mut phi = at(alpha)?;
-        // r = ∂Φ/∂α ~ φ(1 − φ) μt × strain: converged when that strain is
-        // below 1e-12 (a relative test on Φ fails near the unstrained state,
-        // where Φ is small against the rounding of its terms).
-        let stiffness: f64 = self
-            .covered
-            .iter()
-            .chain(&self.bare)
-            .map(|l| l.thickness * materials[l.material].shear_modulus())
-            .sum();
-        let tolerance = 1e-12 * self.share * (1.0 - self.share) * stiffness;
         for _ in 0..MAX_ITERATIONS {
             let r = phi.gradient;
             let residual = r[0].hypot(r[1]);
-            if residual <= tolerance {
+            if residual <= self.tolerance {
                 break;
             }
             let inverse = shifted_inverse(phi.hessian)?;
@@ -225,18 +242,19 @@ mod tests {
 
     fn laminate(share: f64, angle_deg: f64, covered: usize, bare: usize) -> Laminate {
         let (s, c) = angle_deg.to_radians().sin_cos();
-        Laminate {
+        let layer = |material, thickness| {
+            vec![Layer {
+                material,
+                thickness,
+            }]
+        };
+        Laminate::new(
             share,
-            normal: [c, s],
-            covered: vec![Layer {
-                material: covered,
-                thickness: 0.49,
-            }],
-            bare: vec![Layer {
-                material: bare,
-                thickness: 0.2,
-            }],
-        }
+            [c, s],
+            layer(covered, 0.49),
+            layer(bare, 0.2),
+            &materials(),
+        )
     }
 
     /// C of an inflated, sheared state, and of a compressed one.
@@ -302,8 +320,8 @@ mod tests {
         let stiff = laminate(0.4, 20.0, 1, 0);
         assert!(stiff.energy(c, &m) < average(&stiff) * (1.0 - 1e-3));
         // Identical phases: no jump, the average exactly.
-        let mut same = laminate(0.4, 20.0, 1, 1);
-        same.bare = same.covered.clone();
+        let stiff_layers = stiff.covered.clone();
+        let same = Laminate::new(0.4, stiff.normal, stiff_layers.clone(), stiff_layers, &m);
         assert!((same.energy(c, &m) - average(&same)).abs() < 1e-12 * average(&same));
     }
 
@@ -318,18 +336,13 @@ mod tests {
             Material::NeoHookean { mu_mpa: 3.0 },
         ];
         let (phi, ta, tb) = (0.35, 0.5, 0.2);
-        let lam = Laminate {
-            share: phi,
-            normal: [1.0, 0.0],
-            covered: vec![Layer {
-                material: 1,
-                thickness: ta,
-            }],
-            bare: vec![Layer {
-                material: 0,
-                thickness: tb,
-            }],
+        let layer = |material, thickness| {
+            vec![Layer {
+                material,
+                thickness,
+            }]
         };
+        let lam = Laminate::new(phi, [1.0, 0.0], layer(1, ta), layer(0, tb), &m);
         // Membrane neo-Hooke with in-plane stretches (λ, 1): W = μ/2 (λ² + 1/λ² − 2).
         let w = |mu: f64, l: f64| 0.5 * mu * (l * l + 1.0 / (l * l) - 2.0);
         let traction = |mu: f64, t: f64, l: f64| t * mu * (l - 1.0 / l.powi(3));

@@ -10,7 +10,7 @@ use super::element::{Layer, Triangle};
 use super::mesh::TubeMesh;
 use super::overlap::{Interface, patch_cut};
 use super::pressure::{volume, volume_gradient, volume_hessian};
-use super::section::{Cover, CutElements, Section, WALL};
+use super::section::{Cover, CutElements, Section, WALL, materials};
 use crate::curve::Point;
 use crate::design::Design;
 use crate::material::Material;
@@ -30,13 +30,10 @@ pub struct Model {
     pub dof: Vec<Option<usize>>,
     pub dof_count: usize,
     pub pressure: f64,
-    /// Share of each tube triangle covered by patches (0..=1 for `replace`).
-    pub patch_share: Vec<f64>,
 }
 
 impl Model {
     pub fn new(design: &Design, mesh: TubeMesh, cut_elements: CutElements) -> Model {
-        let b = &design.balloon;
         let triangles: Vec<Triangle> = mesh
             .triangles
             .iter()
@@ -75,9 +72,10 @@ impl Model {
                 }
             })
             .collect();
+        let materials = materials(design);
         let sections = covers
             .iter()
-            .map(|cover| Section::new(cover, 1.0, design, cut_elements))
+            .map(|cover| Section::new(cover, 1.0, design, cut_elements, &materials))
             .collect();
         let mut dof = vec![None; mesh.nodes.len()];
         let mut next = 0;
@@ -90,11 +88,10 @@ impl Model {
         Model {
             mesh,
             triangles,
-            patch_share: covers.iter().map(|c| c.share).collect(),
             sections,
             covers,
             cut_elements,
-            materials: vec![b.material.clone(), design.patch.material.clone()],
+            materials,
             dof,
             dof_count: next,
             pressure: design.pressure_mpa(),
@@ -115,8 +112,14 @@ impl Model {
         }
         self.covers
             .iter()
-            .map(|cover| Section::new(cover, s, design, self.cut_elements))
+            .map(|cover| Section::new(cover, s, design, self.cut_elements, &self.materials))
             .collect()
+    }
+
+    /// Share of each triangle covered by patches (summed over patches, so
+    /// above 1 where they overlap).
+    pub fn patch_share(&self) -> Vec<f64> {
+        self.covers.iter().map(|c| c.share).collect()
     }
 
     /// Positions of all nodes from the reference positions and a DOF vector.

@@ -61,20 +61,37 @@ impl Cover {
     };
 }
 
+impl std::str::FromStr for CutElements {
+    type Err = String;
+
+    /// `laminate` or `average` (as the examples take them).
+    fn from_str(name: &str) -> Result<Self, Self::Err> {
+        match name {
+            "laminate" => Ok(CutElements::Laminate),
+            "average" => Ok(CutElements::AreaAverage),
+            _ => Err(format!(
+                "cut elements: `laminate` or `average`, not `{name}`"
+            )),
+        }
+    }
+}
+
 impl Section {
     /// The section of an element with cover `cover`, patch stiffness scaled by
-    /// `s` ∈ [0, 1] (continuation from the bare tube).
-    pub fn new(cover: &Cover, s: f64, design: &Design, rule: CutElements) -> Section {
+    /// `s` ∈ [0, 1] (continuation from the bare tube); `materials` as
+    /// [`materials`] orders them.
+    pub fn new(
+        cover: &Cover,
+        s: f64,
+        design: &Design,
+        rule: CutElements,
+        materials: &[Material],
+    ) -> Section {
         let (share, covered, bare) = phases(cover.share, s, design);
         let layers = average(share, &covered, &bare);
         let cut = share > 1e-12 && share < 1.0 - 1e-12 && cover.coherence > 0.0;
         let laminate = (cut && rule == CutElements::Laminate).then(|| {
-            let laminate = Laminate {
-                share,
-                normal: cover.normal,
-                covered,
-                bare,
-            };
+            let laminate = Laminate::new(share, cover.normal, covered, bare, materials);
             (laminate, cover.coherence)
         });
         Section { layers, laminate }
@@ -120,6 +137,14 @@ impl Section {
             laminate: None,
         }
     }
+}
+
+/// The materials a [`Layer`] refers to, indexed by [`WALL`] and [`PATCH`].
+pub fn materials(design: &Design) -> Vec<Material> {
+    vec![
+        design.balloon.material.clone(),
+        design.patch.material.clone(),
+    ]
 }
 
 /// Σ t W(C) over a stack of layers, with derivatives.
@@ -216,12 +241,12 @@ mod tests {
     fn average_layers_are_the_area_weighted_stack() {
         let d = Design::reference(vec![]);
         let (t, p) = (d.balloon.wall_mm, d.patch.thickness_mm);
-        let s = Section::new(&cover(0.25), 1.0, &d, CutElements::Laminate);
+        let s = Section::new(&cover(0.25), 1.0, &d, CutElements::Laminate, &materials(&d));
         assert!((thickness(&s.layers, WALL) - 0.75 * t).abs() < 1e-15);
         assert!((thickness(&s.layers, PATCH) - 0.25 * p).abs() < 1e-15);
         assert!(s.laminate.is_some());
         // Half-way through continuation: the covered phase is half wall, half patch.
-        let s = Section::new(&cover(0.25), 0.5, &d, CutElements::Laminate);
+        let s = Section::new(&cover(0.25), 0.5, &d, CutElements::Laminate, &materials(&d));
         assert!((thickness(&s.layers, WALL) - (0.75 + 0.125) * t).abs() < 1e-15);
         assert!((thickness(&s.layers, PATCH) - 0.125 * p).abs() < 1e-15);
     }
@@ -230,10 +255,22 @@ mod tests {
     fn only_cut_elements_are_laminates() {
         let d = Design::reference(vec![]);
         for share in [0.0, 1.0, 1.4] {
-            let s = Section::new(&cover(share), 1.0, &d, CutElements::Laminate);
+            let s = Section::new(
+                &cover(share),
+                1.0,
+                &d,
+                CutElements::Laminate,
+                &materials(&d),
+            );
             assert!(s.laminate.is_none(), "share {share}");
         }
-        let s = Section::new(&cover(0.5), 1.0, &d, CutElements::AreaAverage);
+        let s = Section::new(
+            &cover(0.5),
+            1.0,
+            &d,
+            CutElements::AreaAverage,
+            &materials(&d),
+        );
         assert!(s.laminate.is_none());
     }
 
@@ -242,7 +279,7 @@ mod tests {
         let mut d = Design::reference(vec![]);
         d.patch.bonding = Bonding::Laminate;
         let (t, p) = (d.balloon.wall_mm, d.patch.thickness_mm);
-        let s = Section::new(&cover(1.5), 1.0, &d, CutElements::Laminate);
+        let s = Section::new(&cover(1.5), 1.0, &d, CutElements::Laminate, &materials(&d));
         assert!((thickness(&s.layers, WALL) - t).abs() < 1e-15);
         assert!((thickness(&s.layers, PATCH) - 1.5 * p).abs() < 1e-15);
     }

@@ -221,9 +221,8 @@ fn finish(
     let dy = rings[mid + 1].y - rings[mid - 1].y;
     let axial_stretch_mid = centreline.arc_length()[mid + 1] - centreline.arc_length()[mid - 1];
     let volume_mm3 = model.volume(&x);
-    let Model {
-        mesh, patch_share, ..
-    } = model;
+    let patch_share = model.patch_share();
+    let Model { mesh, .. } = model;
     Ok(Simulation {
         inflated_length_mm: centreline.length(),
         hoop_stretch_mid,
