@@ -1,5 +1,5 @@
 //! `patchwork simulate DESIGN.json [--json] [--mesh-mm 2] [--straight-mm S] [--rings 72]
-//! [--out DIR]`.
+//! [--cut-elements laminate|average] [--out DIR]`.
 
 use std::path::PathBuf;
 
@@ -8,6 +8,7 @@ use clap::Args;
 use patchwork_core::design::Design;
 use patchwork_core::fe::export::{to_ply, to_vtk};
 use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
 
 use super::output::{emit, emit_json};
@@ -32,6 +33,12 @@ pub struct SimulateArgs {
     /// Cross-section rings for the centreline.
     #[arg(long, default_value_t = 72)]
     rings: usize,
+    /// How elements that a patch outline cuts are modelled: `laminate` (a
+    /// rank-one laminate along the outline, converges faster with the mesh)
+    /// or `average` (area-weighted average of the covered and bare energies;
+    /// stiffer on coarse meshes). See BENCHMARKS.md, "Cut elements".
+    #[arg(long, default_value = "laminate")]
+    cut_elements: CutElements,
     /// Also write the inflated surface (balloon.vtk, balloon.ply) and the
     /// centreline (centreline.csv) here.
     #[arg(long)]
@@ -48,6 +55,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             ..MeshSpec::uniform(args.mesh_mm)
         },
         rings: args.rings,
+        cut_elements: args.cut_elements,
         ..SimulateOptions::default()
     };
     let sim = simulate(&design, &options)?;

@@ -9,6 +9,7 @@ use axum::http::StatusCode;
 use patchwork_core::curve::{Preset, Units};
 use patchwork_core::design::Design;
 use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::{SimulateOptions, simulate};
 use patchwork_core::ksa::{KsaParams, Stretch, ksa};
 use serde::Deserialize;
@@ -114,6 +115,9 @@ pub struct SimulateRequest {
     straight_mm: Option<f64>,
     #[serde(default = "default_rings")]
     rings: usize,
+    /// How elements that a patch outline cuts are modelled.
+    #[serde(default)]
+    cut_elements: CutElements,
 }
 
 fn default_mesh() -> f64 {
@@ -158,6 +162,7 @@ pub async fn simulate_route(
             ..MeshSpec::uniform(body.mesh_mm)
         },
         rings: body.rings,
+        cut_elements: body.cut_elements,
         ..SimulateOptions::default()
     };
     options.newton.time_limit = cap;

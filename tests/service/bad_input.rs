@@ -265,6 +265,13 @@ async fn bad_queries_headers_routes_and_quick_looks() {
         Some("design.presure_kpa"),
     )
     .await;
+    let rule = json!({"design": {"patches": []}, "cut_elements": "voigt"});
+    assert_problem(
+        api.post("/v1/simulate", &rule).await,
+        422,
+        Some("cut_elements"),
+    )
+    .await;
     let ksa = json!({"curve": {"preset": "arc"}, "kappa_tol": -1});
     assert_problem(api.post("/v1/ksa", &ksa).await, 422, Some("kappa_tol")).await;
 

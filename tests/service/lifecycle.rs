@@ -297,7 +297,7 @@ async fn quick_looks_and_operations_routes() {
     let response = api
         .post(
             "/v1/simulate",
-            &json!({"design": design, "mesh_mm": 3, "straight_mm": 6}),
+            &json!({"design": design, "mesh_mm": 3, "straight_mm": 6, "cut_elements": "average"}),
         )
         .await;
     assert_eq!(response.status(), 200);

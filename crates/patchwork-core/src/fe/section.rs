@@ -21,14 +21,17 @@ use crate::material::{Material, Response};
 pub const WALL: usize = 0;
 pub const PATCH: usize = 1;
 
-/// How elements that a patch outline cuts are modelled.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+/// How elements that a patch outline cuts are modelled. In JSON (the API's
+/// `cut_elements`) and on the command line: `laminate` or `average`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum CutElements {
     /// Rank-one laminate of the covered and bare phases, oriented along the
     /// patch outline ([`super::laminate`]).
     #[default]
+    #[serde(rename = "laminate")]
     Laminate,
     /// Area-weighted average of the phases' energies (Voigt).
+    #[serde(rename = "average")]
     AreaAverage,
 }
 
