@@ -36,8 +36,9 @@ pub struct DesignArgs {
     budget: Option<usize>,
     /// Evaluations of a coarse-to-fine polish: a short CMA-ES run on the
     /// verification model after the search (default: the fidelity's, 0/60/120
-    /// for draft/standard/fine; `--polish 60` with draft took ten round trips
-    /// from a median 0.55 % to 0.31 % shape error, see BENCHMARKS.md).
+    /// for draft/standard/fine; with draft, `--polish 60` took ten round trips
+    /// from a median 0.55 % to 0.31 % shape error, and `--polish 120` to
+    /// 0.22 % with every trip under 0.5 %, see BENCHMARKS.md).
     #[arg(long)]
     polish: Option<usize>,
     /// Weight of the shape error (aligned RMS distance / curve length) added
