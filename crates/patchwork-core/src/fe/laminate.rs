@@ -175,9 +175,12 @@ impl Laminate {
             self.potential(c, alpha, materials)
         };
         // The domain is judged at the Voigt state α = 0 whatever the start,
-        // so that it does not depend on the element's history.
-        self.potential(c, [0.0; 2], materials)?;
+        // so that it does not depend on the element's history (a start at
+        // α = 0 judges it below).
         let mut alpha = self.last.get();
+        if alpha != [0.0; 2] {
+            self.potential(c, [0.0; 2], materials)?;
+        }
         let mut phi = match at(alpha) {
             Some(phi) => phi,
             None => {
