@@ -35,8 +35,8 @@ enum Command {
     Preset(preset_cmd::PresetArgs),
     /// Forward model: inflate a design and report its centreline.
     Simulate(simulate_cmd::SimulateArgs),
-    /// Inverse design: patches for a target curve, with cut files (work in
-    /// progress: slow on long multi-patch curves).
+    /// Inverse design: patches for a target curve, with cut files (long
+    /// balloons that coil are slow: a 2 m helix takes about ten minutes).
     Design(design_cmd::DesignArgs),
     /// Run time against error: a fixed suite of curves × fidelity settings.
     Bench(bench_cmd::BenchArgs),

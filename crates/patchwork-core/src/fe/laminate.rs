@@ -31,8 +31,7 @@
 //! triangle cannot represent anyway.
 //!
 //! Φ is written once, generic over the number type. The inner minimisation is
-//! Newton's method, from the element's last minimiser (the Voigt state α = 0
-//! the first time), on second-order dual numbers
+//! Newton's method from α = 0 (the Voigt state) on second-order dual numbers
 //! in α alone ([`Hyper`]`<2>`), shifted where ∂²Φ/∂α² is not positive definite
 //! and backtracking on Φ; one evaluation on duals in z = (c₁₁, c₂₂, c₁₂, α₁,
 //! α₂) at the minimum then gives every derivative the tangent needs:
@@ -41,8 +40,6 @@
 //!
 //! Tests check ψ's derivatives against finite differences and ψ against a
 //! one-dimensional laminate solved independently.
-
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::element::Layer;
 use crate::material::hyper::Real;
@@ -62,44 +59,6 @@ pub struct Laminate {
     /// The inner Newton's tolerance on r = ∂Φ/∂α (N/mm), from the phases'
     /// stiffness: fixed per element, so set once here.
     tolerance: f64,
-    /// The last minimising jump, where the next inner Newton starts.
-    last: LastJump,
-}
-
-/// The element's last minimising jump α. Successive evaluations of one element
-/// (Newton iterations, line-search trials) see nearby strains, so starting
-/// there instead of at α = 0 saves most inner iterations. Atomic so that a
-/// model stays shareable between threads; a copy starts where the original
-/// is, and the memory is not part of a laminate's identity (equality).
-#[derive(Debug, Default)]
-struct LastJump([AtomicU64; 2]);
-
-impl LastJump {
-    fn get(&self) -> [f64; 2] {
-        self.0
-            .each_ref()
-            .map(|a| f64::from_bits(a.load(Ordering::Relaxed)))
-    }
-
-    fn set(&self, alpha: [f64; 2]) {
-        for (slot, value) in self.0.iter().zip(alpha) {
-            slot.store(value.to_bits(), Ordering::Relaxed);
-        }
-    }
-}
-
-impl Clone for LastJump {
-    fn clone(&self) -> Self {
-        let copy = LastJump::default();
-        copy.set(self.get());
-        copy
-    }
-}
-
-impl PartialEq for LastJump {
-    fn eq(&self, _: &Self) -> bool {
-        true
-    }
 }
 
 /// Inner Newton iterations before the last iterate is accepted.
@@ -127,7 +86,6 @@ impl Laminate {
             covered,
             bare,
             tolerance: 1e-12 * share * (1.0 - share) * stiffness,
-            last: LastJump::default(),
         }
     }
 
@@ -174,20 +132,8 @@ impl Laminate {
             let alpha = [0, 1].map(|k| Hyper::<2>::variable(alpha[k], k));
             self.potential(c, alpha, materials)
         };
-        // The domain is judged at the Voigt state α = 0 whatever the start,
-        // so that it does not depend on the element's history (a start at
-        // α = 0 judges it below).
-        let mut alpha = self.last.get();
-        if alpha != [0.0; 2] {
-            self.potential(c, [0.0; 2], materials)?;
-        }
-        let mut phi = match at(alpha) {
-            Some(phi) => phi,
-            None => {
-                alpha = [0.0; 2];
-                at(alpha)?
-            }
-        };
+        let mut alpha = [0.0; 2];
+        let mut phi = at(alpha)?;
         for _ in 0..MAX_ITERATIONS {
             let r = phi.gradient;
             let residual = r[0].hypot(r[1]);
@@ -224,7 +170,6 @@ impl Laminate {
             alpha = trial;
             phi = p;
         }
-        self.last.set(alpha);
         Some((alpha, phi))
     }
 
@@ -314,39 +259,6 @@ mod tests {
 
     /// C of an inflated, sheared state, and of a compressed one.
     const STATES: [[f64; 3]; 2] = [[2.6, 1.7, 0.3], [0.8, 1.2, -0.1]];
-
-    #[test]
-    fn the_answer_does_not_depend_on_where_the_inner_newton_starts() {
-        // Each evaluation starts from the element's last minimiser: after a
-        // far-away strain (or a clone of a laminate with a history), the
-        // response must be a fresh laminate's to the inner tolerance.
-        let m = materials();
-        for (share, angle, covered, bare) in [(0.3, 30.0, 1, 0), (0.6, -50.0, 2, 3)] {
-            for c in STATES {
-                let fresh = laminate(share, angle, covered, bare)
-                    .response(c, &m)
-                    .unwrap();
-                let used = laminate(share, angle, covered, bare);
-                used.response([4.0, 0.9, 1.1], &m).unwrap();
-                for warm in [
-                    used.response(c, &m).unwrap(),
-                    used.clone().response(c, &m).unwrap(),
-                ] {
-                    assert!((warm.energy - fresh.energy).abs() < 1e-12 * fresh.energy.abs());
-                    let scale: f64 = fresh.gradient.iter().map(|g| g.abs()).sum();
-                    for k in 0..3 {
-                        assert!((warm.gradient[k] - fresh.gradient[k]).abs() < 1e-9 * scale);
-                        for i in 0..3 {
-                            let d = warm.hessian[i][k] - fresh.hessian[i][k];
-                            assert!(d.abs() < 1e-8 * scale, "H[{i}][{k}] differs by {d}");
-                        }
-                    }
-                }
-                // The domain is judged at the Voigt state, not at the start.
-                assert_eq!(used.response([1.0, 1.0, 1.0], &m), None);
-            }
-        }
-    }
 
     #[test]
     fn gradient_and_tangent_match_finite_differences() {
