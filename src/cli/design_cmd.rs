@@ -38,7 +38,7 @@ pub struct DesignArgs {
     /// verification model after the search (default: the fidelity's, 0/60/120
     /// for draft/standard/fine; with draft, `--polish 60` took ten round trips
     /// from a median 0.55 % to 0.31 % shape error, and `--polish 120` to
-    /// 0.22 % with every trip under 0.5 %, see BENCHMARKS.md).
+    /// 0.28 % with 9 of 10 under 0.5 %, see BENCHMARKS.md).
     #[arg(long)]
     polish: Option<usize>,
     /// Weight of the shape error (aligned RMS distance / curve length) added
