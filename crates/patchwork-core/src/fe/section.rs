@@ -67,15 +67,11 @@ impl Cover {
 impl std::str::FromStr for CutElements {
     type Err = String;
 
-    /// `laminate` or `average` (as the examples take them).
+    /// `laminate` or `average` (the command line's spelling): the names are
+    /// the serde ones, kept in one place.
     fn from_str(name: &str) -> Result<Self, Self::Err> {
-        match name {
-            "laminate" => Ok(CutElements::Laminate),
-            "average" => Ok(CutElements::AreaAverage),
-            _ => Err(format!(
-                "cut elements: `laminate` or `average`, not `{name}`"
-            )),
-        }
+        serde_json::from_value(serde_json::Value::from(name))
+            .map_err(|_| format!("cut elements: `laminate` or `average`, not `{name}`"))
     }
 }
 
