@@ -61,9 +61,9 @@ struct Setting {
     fidelity: Fidelity,
     budget: usize,
     warm_starts: bool,
-    /// Coarse-to-fine polish evaluations, stated per setting rather than
-    /// taken from the preset, so that each row says what it ran.
-    polish: usize,
+    /// Refine solves, stated per setting rather than taken from the preset,
+    /// so that each row says what it ran.
+    refine: usize,
 }
 
 struct Row {
@@ -88,12 +88,12 @@ fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
             .map_err(anyhow::Error::msg)?
             .curve(None)?)
     };
-    let setting = |name, fidelity, budget, warm_starts, polish| Setting {
+    let setting = |name, fidelity: Fidelity, budget, warm_starts, refine| Setting {
         name,
         fidelity,
         budget,
         warm_starts,
-        polish,
+        refine,
     };
     if quick {
         let curves = vec![
@@ -110,16 +110,16 @@ fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
             ),
         ];
         let settings = vec![
-            // No polish: the published quick table (docs/bench-quick) predates it.
-            setting("draft, budget 60", Fidelity::Draft, 60, true, 0),
+            setting("draft 60 no refine", Fidelity::Draft, 60, false, 0),
+            setting("draft 60 refine 60", Fidelity::Draft, 60, false, 60),
             setting(
-                "draft, budget 60, cold starts",
+                "draft 60 refine 60 warm starts",
                 Fidelity::Draft,
                 60,
-                false,
-                0,
+                true,
+                60,
             ),
-            setting("standard, budget 60", Fidelity::Standard, 60, true, 0),
+            setting("standard 60 refine 60", Fidelity::Standard, 60, false, 60),
         ];
         return Ok((curves, settings));
     }
@@ -150,27 +150,24 @@ fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
             fidelity,
             fidelity.budget(),
             warm_starts,
-            fidelity.polish_budget(),
+            fidelity.refine_budget(),
         )
     };
     // The presets run as users get them (cold starts, the default since the
-    // warm start stopped paying); one row measures warm starts against that.
+    // warm start stopped paying); one row measures warm starts against that,
+    // and one the coarse search alone (no coarse-to-fine refine).
     let settings = vec![
         as_preset("draft", Fidelity::Draft, false),
         setting(
-            "draft + polish 60 (coarse-to-fine)",
+            "draft without refine",
             Fidelity::Draft,
             Fidelity::Draft.budget(),
             false,
-            60,
+            0,
         ),
-        as_preset("standard (polish 60)", Fidelity::Standard, false),
-        as_preset(
-            "standard (polish 60), warm starts",
-            Fidelity::Standard,
-            true,
-        ),
-        as_preset("fine (polish 120)", Fidelity::Fine, false),
+        as_preset("standard", Fidelity::Standard, false),
+        as_preset("standard with warm starts", Fidelity::Standard, true),
+        as_preset("fine", Fidelity::Fine, false),
     ];
     Ok((curves, settings))
 }
@@ -233,7 +230,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
                     ..DesignRequest::default()
                 };
                 setting.fidelity.apply(&mut request);
-                request.polish_budget = setting.polish;
+                request.refine_budget = setting.refine;
                 // Each run is timed as a fresh process would run it.
                 patchwork_core::inverse::evaluation_cache::clear();
                 let started = Instant::now();

@@ -1,4 +1,4 @@
-//! `patchwork design CURVE --out DIR [--seed S] [--budget EVALS] [--polish EVALS] [--threads N] [--json]
+//! `patchwork design CURVE --out DIR [--seed S] [--budget EVALS] [--polish EVALS] [--refine SOLVES] [--threads N] [--json]
 //! [--fidelity draft|standard|fine]`.
 
 use std::io::IsTerminal;
@@ -35,12 +35,19 @@ pub struct DesignArgs {
     #[arg(long)]
     budget: Option<usize>,
     /// Evaluations of a coarse-to-fine polish: a short CMA-ES run on the
-    /// verification model after the search (default: the fidelity's, 0/60/120
-    /// for draft/standard/fine; with draft, `--polish 60` took ten round trips
-    /// from a median 0.55 % to 0.31 % shape error, and `--polish 120` to
-    /// 0.28 % with 9 of 10 under 0.5 %, see BENCHMARKS.md).
+    /// verification model after the search (default 0: the refine does the
+    /// job better; on ten round trips with draft, `--polish 120` reached a
+    /// median 0.28 % shape error with 9 of 10 under 0.5 %, a 60-solve refine
+    /// 0.06 % with 10 of 10 in a quarter of the time, see BENCHMARKS.md).
     #[arg(long)]
     polish: Option<usize>,
+    /// Solves of the refine: Levenberg–Marquardt on the shape error on the
+    /// verification model, the run's last stage (default: the fidelity's,
+    /// 120/120/240 for draft/standard/fine; 0 turns it off).
+    /// Each iteration costs one solve per free variable and one per trial
+    /// step.
+    #[arg(long)]
+    refine: Option<usize>,
     /// Weight of the shape error (aligned RMS distance / curve length) added
     /// to the κ/τ mismatch in the objective; 0 leaves it out.
     #[arg(long, default_value_t = ObjectiveOptions::default().shape_weight)]
@@ -71,10 +78,11 @@ pub struct DesignArgs {
     /// inflated balloon is as long as the curve (the mismatch is reported).
     #[arg(long)]
     fix_length: bool,
-    /// Model fidelity: draft (search on 3 mm rings, verify on 1 mm), standard
-    /// (2 / 1 mm, polish 60) or fine (draft's search, then a polish of 120
-    /// evaluations on a uniform 0.5 mm mesh, which is also the verification);
-    /// graded meshes are fine under patches, coarse along bare stretches.
+    /// Model fidelity: draft (search on 3 mm rings, refine and verify on
+    /// 1 mm), standard (search on 2 mm, refine and verify on 1 mm) or fine
+    /// (draft's search, then the refine on a uniform 0.5 mm mesh, which is
+    /// also the verification); graded meshes are fine under patches, coarse
+    /// along bare stretches.
     #[arg(long, default_value = "standard")]
     fidelity: Fidelity,
     /// Element size of the search model (mm), overriding the fidelity's with
@@ -126,6 +134,9 @@ pub fn run(args: DesignArgs) -> Result<()> {
     args.fidelity.apply(&mut request);
     if let Some(polish) = args.polish {
         request.polish_budget = polish;
+    }
+    if let Some(refine) = args.refine {
+        request.refine_budget = refine;
     }
     request.initial_step = args.initial_step;
     request.start = args.start;
@@ -181,12 +192,13 @@ pub fn run(args: DesignArgs) -> Result<()> {
                 Stage::Search => "search",
                 Stage::Polish => "polish",
                 Stage::Verify => "verify",
+                Stage::Refine => "refine",
             };
             eprint!(
                 "\r{stage} generation {:>4}  evaluations {:>5}/{}  best {:>9.5}  σ {:.3}  {:>6.1} s ",
                 p.generation,
                 p.evaluations,
-                budget + request.polish_budget,
+                budget + request.polish_budget + request.refine_budget,
                 p.best_objective,
                 p.sigma,
                 p.elapsed_s
@@ -243,6 +255,20 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         r.elapsed_s,
         r.termination
     );
+    match &r.refine {
+        Some(refine) if refine.solves == 0 => s.push_str(&format!(
+            "refine:       none: one step needs {} solves (--refine)\n",
+            refine.variables + 1
+        )),
+        Some(refine) => s.push_str(&format!(
+            "refine:       shape error {:.2} % → {:.2} % in {} steps ({} solves)\n",
+            refine.shape_error_before_percent,
+            refine.shape_error_after_percent,
+            refine.iterations,
+            refine.solves
+        )),
+        None => {}
+    }
     s.push_str(&patch_table(&r.design.patches, |_| ""));
     s.push_str(&format!(
         "files in {}: design.json design.csv patches.dxf template.dxf template.svg profiles.svg\n",

@@ -44,10 +44,14 @@ pub struct JobOptions {
     /// Keep `design.balloon.length_mm` instead of matching the target length.
     #[serde(default)]
     pub fix_length: bool,
-    /// Evaluations of the coarse-to-fine polish on the verification model
-    /// (default: the fidelity's).
+    /// Evaluations of the coarse-to-fine CMA-ES polish on the verification
+    /// model (default: the fidelity's, 0 in every preset).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub polish: Option<usize>,
+    /// Solves of the Levenberg–Marquardt refine on the shape error, the
+    /// run's last stage (default: the fidelity's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refine: Option<usize>,
     /// CMA-ES's initial step as a fraction of each variable's range.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial_step: Option<f64>,
@@ -96,11 +100,16 @@ impl JobRequest {
                 format!("must be between 1 and {MAX_BUDGET} evaluations, got {budget}"),
             ));
         }
-        if self.options.polish.is_some_and(|p| p > MAX_BUDGET) {
-            return Err(Problem::invalid(
-                "options.polish",
-                format!("must be at most {MAX_BUDGET} evaluations"),
-            ));
+        for (field, value) in [
+            ("options.polish", self.options.polish),
+            ("options.refine", self.options.refine),
+        ] {
+            if value.is_some_and(|v| v > MAX_BUDGET) {
+                return Err(Problem::invalid(
+                    field,
+                    format!("must be at most {MAX_BUDGET} evaluations"),
+                ));
+            }
         }
         let bounds = self.bounds.unwrap_or_default();
         bounds
@@ -135,6 +144,9 @@ impl JobRequest {
         fidelity.apply(&mut request);
         if let Some(polish) = self.options.polish {
             request.polish_budget = polish;
+        }
+        if let Some(refine) = self.options.refine {
+            request.refine_budget = refine;
         }
         Ok(Prepared { target, request })
     }

@@ -102,6 +102,14 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "options.budget",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "options": {"refine": 10_000_000}}),
+            "options.refine",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "options": {"refine": -1}}),
+            "options.refine",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "options": {"fidelity": "ultra"}}),
             "options.fidelity",
         ),

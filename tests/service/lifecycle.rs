@@ -27,7 +27,8 @@ async fn a_job_runs_to_done_and_its_files_download() {
     assert_eq!(kinds.first(), Some(&"stage"));
     assert_eq!(kinds.last(), Some(&"done"), "{events:?}");
     assert!(kinds.contains(&"progress"));
-    for stage in ["queued", "seed", "search", "verify"] {
+    // Draft refines after verifying: the last stage is the refine.
+    for stage in ["queued", "seed", "search", "verify", "refine"] {
         assert!(
             events
                 .iter()
@@ -46,7 +47,7 @@ async fn a_job_runs_to_done_and_its_files_download() {
     let job = api.job(id).await;
     assert_schema("Job", &job);
     assert_eq!(job["status"], "succeeded");
-    assert_eq!(job["progress"]["stage"], "verify");
+    assert_eq!(job["progress"]["stage"], "refine");
 
     let result: Value = api
         .get(&format!("/v1/jobs/{id}/result"))

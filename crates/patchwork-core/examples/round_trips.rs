@@ -9,7 +9,9 @@
 //! (the search and verification models; the target is always simulated on the
 //! verification model), `budget=200`, `sigma=0.2` (CMA-ES's initial step in
 //! the unit cube), `shape=10` (weight of the shape error in the objective),
-//! `polish=0` (coarse-to-fine evaluations), `trips=10`, `search=verify`
+//! `polish=N` (CMA-ES polish evaluations on the verification model) and
+//! `refine=N` (solves of the Levenberg–Marquardt refine there; both default
+//! to the fidelity's), `trips=10`, `search=verify`
 //! (search on the verification model itself: no model error in the loop).
 
 use std::sync::atomic::AtomicBool;
@@ -25,7 +27,8 @@ struct Settings {
     budget: usize,
     sigma: f64,
     shape: f64,
-    polish: usize,
+    polish: Option<usize>,
+    refine: Option<usize>,
     trips: u64,
     search_on_verify: bool,
 }
@@ -36,7 +39,8 @@ fn settings() -> Settings {
         budget: 200,
         sigma: INITIAL_STEP,
         shape: ObjectiveOptions::default().shape_weight,
-        polish: 0,
+        polish: None,
+        refine: None,
         trips: 10,
         search_on_verify: false,
     };
@@ -48,7 +52,8 @@ fn settings() -> Settings {
             "budget" => s.budget = number() as usize,
             "sigma" => s.sigma = number(),
             "shape" => s.shape = number(),
-            "polish" => s.polish = number() as usize,
+            "polish" => s.polish = Some(number() as usize),
+            "refine" => s.refine = Some(number() as usize),
             "trips" => s.trips = number() as u64,
             "search" if value == "verify" => s.search_on_verify = true,
             _ => panic!("unknown setting {key}"),
@@ -60,12 +65,13 @@ fn settings() -> Settings {
 fn main() {
     let settings = settings();
     println!(
-        "fidelity {:?}, budget {}, σ₀ {}, shape weight {}, polish {}, search on the verification model: {}",
+        "fidelity {:?}, budget {}, σ₀ {}, shape weight {}, polish {}, refine {}, search on the verification model: {}",
         settings.fidelity,
         settings.budget,
         settings.sigma,
         settings.shape,
-        settings.polish,
+        settings.polish.unwrap_or(settings.fidelity.polish_budget()),
+        settings.refine.unwrap_or(settings.fidelity.refine_budget()),
         settings.search_on_verify
     );
     let mut rng = SeededRng::new(2026);
@@ -113,7 +119,12 @@ fn main() {
         };
         request.objective.shape_weight = settings.shape;
         settings.fidelity.apply(&mut request);
-        request.polish_budget = settings.polish;
+        if let Some(polish) = settings.polish {
+            request.polish_budget = polish;
+        }
+        if let Some(refine) = settings.refine {
+            request.refine_budget = refine;
+        }
         if settings.search_on_verify {
             request.search_mesh = request.verify_mesh;
         }

@@ -15,5 +15,6 @@ pub mod fe;
 pub mod inverse;
 pub mod ksa;
 pub mod material;
+mod parallel;
 
 pub use curve::{Curve, CurveError, Point};

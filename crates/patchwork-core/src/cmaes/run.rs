@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use super::bounds::Bounds;
 use super::rng::SeededRng;
 use super::strategy::CmaEs;
+use crate::parallel::map_in_threads;
 
 /// Why a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -151,7 +152,7 @@ impl Optimizer {
         }
         let candidates = self.strategy.ask();
         let points: Vec<Vec<f64>> = candidates.iter().map(|x| self.phenotype(x)).collect();
-        let fitness = evaluate(objective, &points, self.options.threads);
+        let fitness = map_in_threads(&points, self.options.threads, &|x: &Vec<f64>| objective(x));
         for (x, &f) in points.iter().zip(&fitness) {
             if f < self.best_fitness {
                 self.best_fitness = f;
@@ -242,28 +243,4 @@ impl Optimizer {
             }
         }
     }
-}
-
-/// Evaluates `points`, split across up to `threads` scoped threads.
-fn evaluate(
-    objective: &(dyn Fn(&[f64]) -> f64 + Sync),
-    points: &[Vec<f64>],
-    threads: usize,
-) -> Vec<f64> {
-    let threads = threads.clamp(1, points.len().max(1));
-    if threads == 1 {
-        return points.iter().map(|x| objective(x)).collect();
-    }
-    let chunk = points.len().div_ceil(threads);
-    let mut fitness = vec![0.0; points.len()];
-    std::thread::scope(|scope| {
-        for (slot, work) in fitness.chunks_mut(chunk).zip(points.chunks(chunk)) {
-            scope.spawn(move || {
-                for (f, x) in slot.iter_mut().zip(work) {
-                    *f = objective(x);
-                }
-            });
-        }
-    });
-    fitness
 }

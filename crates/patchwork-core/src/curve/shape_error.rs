@@ -26,22 +26,45 @@ pub fn shape_error(
     target: &Curve,
     samples: usize,
 ) -> Result<ShapeError, CurveError> {
-    let a = achieved.resample(samples)?;
-    let b = target.resample(samples)?;
-    let (rotation, translation) = kabsch(a.points(), b.points());
-    let sum_sq: f64 = a
-        .points()
-        .iter()
-        .zip(b.points())
-        .map(|(p, q)| (rotation * p + translation - q).norm_squared())
-        .sum();
+    let aligned = AlignedSamples::new(achieved, &target.resample(samples)?)?;
+    let sum_sq: f64 = aligned.residuals.iter().map(|r| r.norm_squared()).sum();
     let rms_mm = (sum_sq / samples as f64).sqrt();
     Ok(ShapeError {
         rms_mm,
         percent_of_length: 100.0 * rms_mm / target.length(),
-        rotation,
-        translation,
+        rotation: aligned.rotation,
+        translation: aligned.translation,
     })
+}
+
+/// `achieved` resampled like `target_samples` and rigidly aligned onto them:
+/// the residual rᵢ = R aᵢ + t − bᵢ of every sample (mm), so that the shape
+/// error is √(Σ|rᵢ|²/n). The refine's least-squares residuals.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AlignedSamples {
+    pub residuals: Vec<Point>,
+    pub rotation: Rotation3<f64>,
+    pub translation: Point,
+}
+
+impl AlignedSamples {
+    /// `target_samples` is the target already resampled (once, by the caller).
+    pub fn new(achieved: &Curve, target_samples: &Curve) -> Result<AlignedSamples, CurveError> {
+        let a = achieved.resample(target_samples.len())?;
+        let b = target_samples;
+        let (rotation, translation) = kabsch(a.points(), b.points());
+        let residuals = a
+            .points()
+            .iter()
+            .zip(b.points())
+            .map(|(p, q)| rotation * p + translation - q)
+            .collect();
+        Ok(AlignedSamples {
+            residuals,
+            rotation,
+            translation,
+        })
+    }
 }
 
 /// The proper rotation R and translation t minimising Σ |R pᵢ + t − qᵢ|²
@@ -93,6 +116,23 @@ mod tests {
         let moved = helix.transformed(&rotation, &Point::new(5.0, -7.0, 100.0));
         let e = shape_error(&moved, &helix, 200).unwrap();
         assert!(e.rms_mm < 1e-9, "{}", e.rms_mm);
+    }
+
+    #[test]
+    fn aligned_residuals_are_the_shape_error_sample_by_sample() {
+        let helix = Preset::helix(20.0, 40.0, 2.0).generate(300).unwrap();
+        let wider = Preset::helix(21.0, 40.0, 2.0).generate(250).unwrap();
+        let e = shape_error(&wider, &helix, 200).unwrap();
+        let aligned = AlignedSamples::new(&wider, &helix.resample(200).unwrap()).unwrap();
+        let rms = (aligned
+            .residuals
+            .iter()
+            .map(|r| r.norm_squared())
+            .sum::<f64>()
+            / 200.0)
+            .sqrt();
+        assert_eq!(aligned.residuals.len(), 200);
+        assert!(e.rms_mm > 0.1 && (rms - e.rms_mm).abs() < 1e-12 * e.rms_mm);
     }
 
     #[test]

@@ -12,16 +12,16 @@ use crate::fe::mesh::MeshSpec;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Fidelity {
-    /// Search on 3 mm rings, verify on 1 mm: a quick look.
+    /// Search on 3 mm rings, refine and verify on 1 mm: a quick look.
     Draft,
-    /// Search on 2 mm elements, verify on 1 mm.
+    /// Search on 2 mm elements (600 evaluations), refine and verify on 1 mm.
     #[default]
     Standard,
-    /// Draft's search, then a polish of 120 evaluations on a uniform 0.5 mm
-    /// mesh, which is also the verification. (It used to search 1 200
-    /// evaluations on the graded 1 mm model: over two hours for the Hilbert
-    /// curve here, and 351 evaluations did not beat the KSA seed once; the
-    /// improvements measured come from polishing on the fine model.)
+    /// Draft's search, then the refine on a uniform 0.5 mm mesh, which is
+    /// also the verification. (It used to search 1 200 evaluations on the
+    /// graded 1 mm model: over two hours for the Hilbert curve here, and 351
+    /// evaluations did not beat the KSA seed once; then a CMA-ES polish of
+    /// 120 on the 0.5 mm mesh, 14 minutes, which bought nothing there.)
     Fine,
 }
 
@@ -57,25 +57,36 @@ impl Fidelity {
         }
     }
 
-    /// Evaluations of the coarse-to-fine polish on the verification model.
-    /// Draft skips it to stay fast; with 60, draft's ten round trips reach a
-    /// median shape error of 0.31 % instead of 0.55 %, and the Hilbert curve
-    /// a median 1.15 % over three seeds instead of 1.24 %, at 1.1–1.4 times
-    /// the time (BENCHMARKS.md).
+    /// Evaluations of the coarse-to-fine CMA-ES polish on the verification
+    /// model: none in any preset since the refine (below) took its place. On
+    /// ten round trips a polish of 120 evaluations reached a median shape
+    /// error of 0.28 % with 9 of 10 under 0.5 %; a refine of 60 solves
+    /// reached 0.06 % with 10 of 10, in a quarter of the time
+    /// (BENCHMARKS.md). `--polish N` still runs one.
     pub fn polish_budget(self) -> usize {
+        0
+    }
+
+    /// Solves of the refine (Levenberg–Marquardt on the shape error on the
+    /// verification model): about three Gauss–Newton iterations for the
+    /// Hilbert curve's 30 variables, ten for a two-patch design (it stops
+    /// earlier once a step gains under 0.1 %). Fine's model is the uniform
+    /// 0.5 mm mesh, where each solve costs several times more and the shape
+    /// error can go further down.
+    pub fn refine_budget(self) -> usize {
         match self {
-            Fidelity::Draft => 0,
-            Fidelity::Standard => 60,
-            Fidelity::Fine => 120,
+            Fidelity::Draft | Fidelity::Standard => 120,
+            Fidelity::Fine => 240,
         }
     }
 
-    /// Sets the search and verification meshes and the polish budget of
-    /// `request` for its balloon (set `request.base` first; the search
+    /// Sets the search and verification meshes, the polish and the refine
+    /// budgets of `request` for its balloon (set `request.base` first; the search
     /// budget is the caller's choice).
     pub fn apply(self, request: &mut DesignRequest) {
         (request.search_mesh, request.verify_mesh) = self.meshes(request.base.balloon.radius_mm);
         request.polish_budget = self.polish_budget();
+        request.refine_budget = self.refine_budget();
     }
 }
 

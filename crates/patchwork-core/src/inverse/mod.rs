@@ -8,6 +8,7 @@ mod incumbent;
 pub mod objective;
 pub mod pipeline;
 mod polish;
+mod refine;
 pub mod report;
 pub mod variables;
 
@@ -17,5 +18,6 @@ pub use pipeline::{
     DesignCheckpoint, DesignHooks, DesignOutcome, DesignProgress, DesignRequest, DesignRunError,
     INITIAL_STEP, Metrics, Stage, Start, assess, design, design_resumable,
 };
+pub use refine::RefineSummary;
 pub use report::DesignReport;
 pub use variables::{DesignSpace, Freedom, VariableBounds};

@@ -15,6 +15,9 @@ use crate::curve::{AnalysisOptions, Curve, analyse, interpolate, shape_error};
 /// The shape-error weight of the default objective.
 pub const DEFAULT_SHAPE_WEIGHT: f64 = 10.0;
 
+/// Samples along both curves at which the shape error is taken.
+pub const SHAPE_SAMPLES: usize = 200;
+
 /// Objective options.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -140,7 +143,7 @@ impl TargetProfiles {
             (l2(&dk) + l2(&dt)) / self.norm
         };
         if options.shape_weight > 0.0
-            && let Ok(e) = shape_error(centreline, &self.curve, 200)
+            && let Ok(e) = shape_error(centreline, &self.curve, SHAPE_SAMPLES)
         {
             f += options.shape_weight * e.percent_of_length / 100.0;
         }

@@ -8,8 +8,9 @@ use serde::{Deserialize, Serialize};
 
 use super::evaluation_cache::simulate_cached;
 use super::incumbent::{Incumbent, Scorer, score};
-use super::objective::{ObjectiveOptions, TargetProfiles};
+use super::objective::{ObjectiveOptions, SHAPE_SAMPLES, TargetProfiles};
 use super::polish::polish;
+use super::refine::{RefineProblem, RefineSummary};
 use super::report::Profiles;
 use super::variables::{DesignSpace, Freedom, VariableBounds, VariableError};
 use crate::cmaes::{Bounds, Optimizer, RunOptions, Termination};
@@ -61,6 +62,12 @@ pub struct DesignRequest {
     /// (0: none). The search model is coarser and bends the tube differently;
     /// the polish corrects for that. Not checkpointed: a resumed run repeats it.
     pub polish_budget: usize,
+    /// Solves of the refine: after the length correction, Levenberg–Marquardt
+    /// on the shape error on the verification model, from the best design,
+    /// over its free variables and (unless `fix_length`) the balloon length
+    /// (0: none). Each iteration costs one solve per variable for the
+    /// Jacobian and one or more for the step. Not checkpointed.
+    pub refine_budget: usize,
     /// CMA-ES's initial step σ₀ in the unit cube of the free variables (each
     /// variable's range maps to [0, 1]).
     pub initial_step: f64,
@@ -115,6 +122,7 @@ impl Default for DesignRequest {
             width_mm: 1.5,
             warm_starts: false,
             polish_budget: 0,
+            refine_budget: 0,
             initial_step: INITIAL_STEP,
             start: Start::Ksa,
         }
@@ -153,6 +161,8 @@ pub enum Stage {
     /// The coarse-to-fine polish on the verification model.
     Polish,
     Verify,
+    /// Levenberg–Marquardt on the shape error on the verification model.
+    Refine,
 }
 
 /// Progress reported to the observer.
@@ -219,6 +229,8 @@ pub struct DesignOutcome {
     pub uninflated_length_to_cut_mm: f64,
     pub evaluations: usize,
     pub termination: Termination,
+    /// What the refine did; none when it did not run.
+    pub refine: Option<RefineSummary>,
     pub elapsed: Duration,
 }
 
@@ -469,6 +481,47 @@ pub fn design_resumable(
         stretch_balloon(&mut best, ratio);
         simulation = simulate_cached(&best, &verify).map_err(DesignRunError::Verify)?;
     }
+    let mut refine_summary = None;
+    if space.dimension() > 0 && request.refine_budget > 0 {
+        let target_samples =
+            target
+                .resample(SHAPE_SAMPLES)
+                .map_err(|e| DesignRunError::Options {
+                    field: "target".into(),
+                    reason: e.to_string(),
+                })?;
+        let problem = RefineProblem {
+            model: &verify,
+            target_samples: &target_samples,
+            target_length_mm: target.length(),
+            freedom: request.freedom,
+            bounds: &bounds,
+            free_length: !request.fix_length,
+            threads: request.threads,
+            cancel,
+        };
+        let spent = state.evaluations;
+        let refined = problem.refine(
+            best,
+            simulation,
+            request.refine_budget,
+            &mut |iteration, evaluations, _, simulation| {
+                let objective = profiles.objective(&simulation.centreline, &request.objective);
+                report(
+                    Stage::Refine,
+                    iteration,
+                    spent + evaluations,
+                    objective,
+                    0.0,
+                    observer,
+                )
+            },
+        )?;
+        best = refined.design;
+        simulation = refined.simulation;
+        state.evaluations += refined.summary.solves;
+        refine_summary = Some(refined.summary);
+    }
     let (metrics, profiles) = verified(&profiles, &simulation, &request.objective);
     Ok(DesignOutcome {
         profiles,
@@ -486,6 +539,7 @@ pub fn design_resumable(
         target_length_mm: target.length(),
         evaluations: state.evaluations,
         termination,
+        refine: refine_summary,
         elapsed: Duration::from_secs_f64(elapsed()),
     })
 }
@@ -605,7 +659,7 @@ const LENGTH_TOLERANCE: f64 = 1e-3;
 
 /// Scales the balloon's length by `ratio`, and the patches' axial positions
 /// and lengths with it.
-fn stretch_balloon(design: &mut Design, ratio: f64) {
+pub(super) fn stretch_balloon(design: &mut Design, ratio: f64) {
     design.balloon.length_mm *= ratio;
     for p in &mut design.patches {
         p.y_mm *= ratio;
@@ -637,7 +691,7 @@ fn verified(
     sim: &Simulation,
     options: &ObjectiveOptions,
 ) -> (Metrics, Profiles) {
-    let shape = shape_error(&sim.centreline, &target.curve, 200).ok();
+    let shape = shape_error(&sim.centreline, &target.curve, SHAPE_SAMPLES).ok();
     let (curvature, torsion) = target.profiles_of(&sim.centreline, options);
     let metrics = Metrics {
         objective: target.mismatch(&sim.centreline, &curvature, &torsion, options),

@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::pipeline::{DesignOutcome, Metrics};
+use super::refine::RefineSummary;
 use crate::cmaes::Termination;
 use crate::design::Design;
 
@@ -34,6 +35,10 @@ pub struct DesignReport {
     pub evaluations: usize,
     pub elapsed_s: f64,
     pub termination: Termination,
+    /// The refine's shape error before and after, steps and solves (absent
+    /// when it did not run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refine: Option<RefineSummary>,
     pub seed: u64,
     pub profiles: Profiles,
 }
@@ -59,6 +64,7 @@ impl DesignReport {
             evaluations: outcome.evaluations,
             elapsed_s: outcome.elapsed.as_secs_f64(),
             termination: outcome.termination,
+            refine: outcome.refine,
             seed,
             profiles: outcome.profiles.clone(),
         }
