@@ -36,7 +36,8 @@ enum Command {
     /// Forward model: inflate a design and report its centreline.
     Simulate(simulate_cmd::SimulateArgs),
     /// Inverse design: patches for a target curve, with cut files (long
-    /// balloons that coil are slow: a 2 m helix takes about ten minutes).
+    /// balloons that coil are slow: for a 2 m helix, the seed's first
+    /// simulation on the verification model alone takes about seven minutes).
     Design(design_cmd::DesignArgs),
     /// Run time against error: a fixed suite of curves × fidelity settings.
     Bench(bench_cmd::BenchArgs),
