@@ -51,8 +51,11 @@ fn small_target() -> (Design, Curve) {
     )
 }
 
-#[test]
-fn one_patch_round_trip_recovers_the_design() {
+/// The round trip of the CI tests: a 20 × 2.5 mm patch at 15° on a 120 mm
+/// balloon, the length fixed, search and verification on the 2 mm model;
+/// the truth, its centreline and the request with `budget` search
+/// evaluations and `refine` refine solves.
+fn oblique_patch_round_trip(budget: usize, refine: usize) -> (Patch, Curve, DesignRequest) {
     let truth = Patch {
         x_mm: 0.0,
         y_mm: 60.0,
@@ -64,11 +67,18 @@ fn one_patch_round_trip_recovers_the_design() {
     let request = DesignRequest {
         base,
         fix_length: true,
-        budget: 200,
+        budget,
+        refine_budget: refine,
         threads: 2,
         verify_mesh: MeshSpec::uniform(2.0),
         ..DesignRequest::default()
     };
+    (truth, target, request)
+}
+
+#[test]
+fn one_patch_round_trip_recovers_the_design() {
+    let (truth, target, request) = oblique_patch_round_trip(200, 0);
     let mut stages = Vec::new();
     let outcome = design(&target, &request, &AtomicBool::new(false), &mut |p| {
         stages.push(p.stage)
@@ -112,23 +122,7 @@ fn one_patch_round_trip_recovers_the_design() {
 /// goes to the solves' noise, and the patch is found more exactly.
 #[test]
 fn refine_takes_a_round_trip_to_its_solution() {
-    let truth = Patch {
-        x_mm: 0.0,
-        y_mm: 60.0,
-        h_mm: 20.0,
-        w_mm: 2.5,
-        theta_deg: 15.0,
-    };
-    let (base, target) = one_patch_target(120.0, truth);
-    let request = DesignRequest {
-        base,
-        fix_length: true,
-        budget: 100,
-        refine_budget: 40,
-        threads: 2,
-        verify_mesh: MeshSpec::uniform(2.0),
-        ..DesignRequest::default()
-    };
+    let (truth, target, request) = oblique_patch_round_trip(100, 40);
     let mut refine_steps = Vec::new();
     let outcome = design(&target, &request, &AtomicBool::new(false), &mut |p| {
         if p.stage == Stage::Refine {
