@@ -34,7 +34,7 @@ impl Fidelity {
     /// accuracy there, most of a sparse balloon's unknowns saved). The search
     /// meshes keep the 2 mm cross-section (10 sides on the reference balloon):
     /// a 1 mm section is more accurate but makes each factorisation about 5×
-    /// dearer, which no search can afford (fine's polish pays it).
+    /// dearer, which no search can afford (fine's refine pays it).
     pub fn meshes(self, radius_mm: f64) -> (MeshSpec, MeshSpec) {
         let draft_search = MeshSpec {
             element_mm: 3.0,
