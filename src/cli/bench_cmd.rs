@@ -88,7 +88,7 @@ fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
             .map_err(anyhow::Error::msg)?
             .curve(None)?)
     };
-    let setting = |name, fidelity: Fidelity, budget, warm_starts, refine| Setting {
+    let setting = |name, fidelity, budget, warm_starts, refine| Setting {
         name,
         fidelity,
         budget,

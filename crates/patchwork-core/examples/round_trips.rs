@@ -9,9 +9,9 @@
 //! (the search and verification models; the target is always simulated on the
 //! verification model), `budget=200`, `sigma=0.2` (CMA-ES's initial step in
 //! the unit cube), `shape=10` (weight of the shape error in the objective),
-//! `polish=N` (CMA-ES polish evaluations on the verification model) and
-//! `refine=N` (solves of the Levenberg–Marquardt refine there; both default
-//! to the fidelity's), `trips=10`, `search=verify`
+//! `polish=0` (CMA-ES polish evaluations on the verification model),
+//! `refine=N` (solves of the Levenberg–Marquardt refine there; default the
+//! fidelity's), `trips=10`, `search=verify`
 //! (search on the verification model itself: no model error in the loop).
 
 use std::sync::atomic::AtomicBool;
@@ -27,7 +27,7 @@ struct Settings {
     budget: usize,
     sigma: f64,
     shape: f64,
-    polish: Option<usize>,
+    polish: usize,
     refine: Option<usize>,
     trips: u64,
     search_on_verify: bool,
@@ -39,7 +39,7 @@ fn settings() -> Settings {
         budget: 200,
         sigma: INITIAL_STEP,
         shape: ObjectiveOptions::default().shape_weight,
-        polish: None,
+        polish: 0,
         refine: None,
         trips: 10,
         search_on_verify: false,
@@ -52,7 +52,7 @@ fn settings() -> Settings {
             "budget" => s.budget = number() as usize,
             "sigma" => s.sigma = number(),
             "shape" => s.shape = number(),
-            "polish" => s.polish = Some(number() as usize),
+            "polish" => s.polish = number() as usize,
             "refine" => s.refine = Some(number() as usize),
             "trips" => s.trips = number() as u64,
             "search" if value == "verify" => s.search_on_verify = true,
@@ -70,7 +70,7 @@ fn main() {
         settings.budget,
         settings.sigma,
         settings.shape,
-        settings.polish.unwrap_or(settings.fidelity.polish_budget()),
+        settings.polish,
         settings.refine.unwrap_or(settings.fidelity.refine_budget()),
         settings.search_on_verify
     );
@@ -119,9 +119,7 @@ fn main() {
         };
         request.objective.shape_weight = settings.shape;
         settings.fidelity.apply(&mut request);
-        if let Some(polish) = settings.polish {
-            request.polish_budget = polish;
-        }
+        request.polish_budget = settings.polish;
         if let Some(refine) = settings.refine {
             request.refine_budget = refine;
         }

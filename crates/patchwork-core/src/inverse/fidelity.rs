@@ -57,16 +57,6 @@ impl Fidelity {
         }
     }
 
-    /// Evaluations of the coarse-to-fine CMA-ES polish on the verification
-    /// model: none in any preset since the refine (below) took its place. On
-    /// ten round trips a polish of 120 evaluations reached a median shape
-    /// error of 0.28 % with 9 of 10 under 0.5 %; a refine of 60 solves
-    /// reached 0.06 % with 10 of 10, in a quarter of the time
-    /// (BENCHMARKS.md). `--polish N` still runs one.
-    pub fn polish_budget(self) -> usize {
-        0
-    }
-
     /// Solves of the refine (Levenberg–Marquardt on the shape error on the
     /// verification model): about three Gauss–Newton iterations for the
     /// Hilbert curve's 30 variables, ten for a two-patch design (it stops
@@ -80,12 +70,15 @@ impl Fidelity {
         }
     }
 
-    /// Sets the search and verification meshes, the polish and the refine
-    /// budgets of `request` for its balloon (set `request.base` first; the search
-    /// budget is the caller's choice).
+    /// Sets the search and verification meshes and the refine budget of
+    /// `request` for its balloon (set `request.base` first; the search
+    /// budget is the caller's choice). No preset runs the CMA-ES polish: on
+    /// ten round trips a polish of 120 evaluations reached a median shape
+    /// error of 0.28 % with 9 of 10 under 0.5 %, a refine of 60 solves
+    /// 0.06 % with 10 of 10 in a quarter of the time (BENCHMARKS.md); a
+    /// caller asks for one through `polish_budget`.
     pub fn apply(self, request: &mut DesignRequest) {
         (request.search_mesh, request.verify_mesh) = self.meshes(request.base.balloon.radius_mm);
-        request.polish_budget = self.polish_budget();
         request.refine_budget = self.refine_budget();
     }
 }

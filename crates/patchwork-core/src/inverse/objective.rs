@@ -72,6 +72,9 @@ impl ObjectiveOptions {
 #[derive(Debug, Clone, PartialEq)]
 pub struct TargetProfiles {
     pub curve: Curve,
+    /// The target resampled to the shape error's `SHAPE_SAMPLES` points,
+    /// once (the refine aligns every centreline onto them).
+    pub shape_samples: Curve,
     pub curvature: Vec<f64>,
     pub torsion: Vec<f64>,
     pub torsion_mask: Vec<bool>,
@@ -94,6 +97,9 @@ impl TargetProfiles {
         let norm = l2(&curvature) + l2(&masked(&torsion, &torsion_mask));
         TargetProfiles {
             curve: target.clone(),
+            shape_samples: target
+                .resample(SHAPE_SAMPLES)
+                .unwrap_or_else(|_| target.clone()),
             curvature,
             torsion,
             torsion_mask,

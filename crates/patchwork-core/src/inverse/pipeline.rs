@@ -59,7 +59,8 @@ pub struct DesignRequest {
     pub warm_starts: bool,
     /// Evaluations of the coarse-to-fine polish: after the search, a short
     /// CMA-ES run on the verification model from the search's best design
-    /// (0: none). The search model is coarser and bends the tube differently;
+    /// (0: none, the default, and in every preset: the refine does the job
+    /// better). The search model is coarser and bends the tube differently;
     /// the polish corrects for that. Not checkpointed: a resumed run repeats it.
     pub polish_budget: usize,
     /// Solves of the refine: after the length correction, Levenberg–Marquardt
@@ -483,17 +484,9 @@ pub fn design_resumable(
     }
     let mut refine_summary = None;
     if space.dimension() > 0 && request.refine_budget > 0 {
-        let target_samples =
-            target
-                .resample(SHAPE_SAMPLES)
-                .map_err(|e| DesignRunError::Options {
-                    field: "target".into(),
-                    reason: e.to_string(),
-                })?;
         let problem = RefineProblem {
             model: &verify,
-            target_samples: &target_samples,
-            target_length_mm: target.length(),
+            target: &profiles,
             freedom: request.freedom,
             bounds: &bounds,
             free_length: !request.fix_length,
@@ -505,7 +498,7 @@ pub fn design_resumable(
             best,
             simulation,
             request.refine_budget,
-            &mut |iteration, evaluations, _, simulation| {
+            &mut |iteration, evaluations, simulation| {
                 let objective = profiles.objective(&simulation.centreline, &request.objective);
                 report(
                     Stage::Refine,
@@ -519,8 +512,8 @@ pub fn design_resumable(
         )?;
         best = refined.design;
         simulation = refined.simulation;
-        state.evaluations += refined.summary.solves;
-        refine_summary = Some(refined.summary);
+        state.evaluations += refined.summary.map_or(0, |r| r.solves);
+        refine_summary = refined.summary;
     }
     let (metrics, profiles) = verified(&profiles, &simulation, &request.objective);
     Ok(DesignOutcome {

@@ -35,9 +35,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
+use super::objective::TargetProfiles;
 use super::pipeline::{DesignRunError, stretch_balloon};
 use super::variables::{DesignSpace, Freedom, VariableBounds};
-use crate::curve::{AlignedSamples, Curve};
+use crate::curve::AlignedSamples;
 use crate::design::Design;
 use crate::fe::{SimulateOptions, Simulation, simulate_from};
 use crate::parallel::map_in_threads;
@@ -58,9 +59,7 @@ const LENGTH_WINDOW: f64 = 0.1;
 /// What the refine needs to evaluate a design.
 pub(super) struct RefineProblem<'a> {
     pub model: &'a SimulateOptions,
-    /// The target resampled to the shape error's samples.
-    pub target_samples: &'a Curve,
-    pub target_length_mm: f64,
+    pub target: &'a TargetProfiles,
     pub freedom: Freedom,
     pub bounds: &'a VariableBounds,
     /// The balloon length is a variable too (the request does not fix it).
@@ -70,11 +69,12 @@ pub(super) struct RefineProblem<'a> {
 }
 
 /// The refine's result: the best design and its simulation on the model (the
-/// start itself if no step lowered the shape error), and what it did.
+/// start itself if no step lowered the shape error), and what it did (none
+/// if the start's centreline could not be aligned with the target).
 pub(super) struct Refined {
     pub design: Design,
     pub simulation: Simulation,
-    pub summary: RefineSummary,
+    pub summary: Option<RefineSummary>,
 }
 
 /// What the refine did, for the report: the shape error on the verification
@@ -90,28 +90,43 @@ pub struct RefineSummary {
     pub variables: usize,
 }
 
-/// A design evaluated by the refine.
-struct Point {
+/// A design evaluated by the refine: its unit-cube point, simulation,
+/// residuals and their norm (the shape error in %).
+struct Iterate {
     u: Vec<f64>,
     simulation: Simulation,
     residuals: DVector<f64>,
+    error: f64,
 }
 
 impl RefineProblem<'_> {
-    /// Residuals of a simulated centreline (|r| = shape error in %), none if
-    /// the centreline cannot be resampled.
-    fn residuals(&self, simulation: &Simulation) -> Option<DVector<f64>> {
-        let aligned = AlignedSamples::new(&simulation.centreline, self.target_samples).ok()?;
+    /// `simulation` at unit-cube point `u` as an iterate with its residuals
+    /// (|r| = shape error in %); the simulation back if its centreline cannot
+    /// be aligned with the target.
+    fn iterate(&self, u: Vec<f64>, simulation: Simulation) -> Result<Iterate, Box<Simulation>> {
+        let Ok(aligned) = AlignedSamples::new(&simulation.centreline, &self.target.shape_samples)
+        else {
+            return Err(Box::new(simulation));
+        };
         let n = aligned.residuals.len() as f64;
-        let scale = 100.0 / (self.target_length_mm * n.sqrt());
-        let r = DVector::from_iterator(
+        let scale = 100.0 / (self.target.curve.length() * n.sqrt());
+        let residuals = DVector::from_iterator(
             3 * aligned.residuals.len(),
             aligned
                 .residuals
                 .iter()
                 .flat_map(|p| p.iter().map(|c| c * scale)),
         );
-        r.iter().all(|v| v.is_finite()).then_some(r)
+        let error = residuals.norm();
+        if !error.is_finite() {
+            return Err(Box::new(simulation));
+        }
+        Ok(Iterate {
+            u,
+            simulation,
+            residuals,
+            error,
+        })
     }
 
     /// The design at `u`: the space's patches, then the balloon (and the
@@ -136,30 +151,25 @@ impl RefineProblem<'_> {
         base: &Design,
         u: Vec<f64>,
         from: &Simulation,
-    ) -> Option<Point> {
+    ) -> Option<Iterate> {
         if self.cancel.load(Ordering::Relaxed) {
             return None;
         }
         let design = self.design_at(space, base, &u);
         let simulation = simulate_from(&design, self.model, Some(from)).ok()?;
-        let residuals = self.residuals(&simulation)?;
-        Some(Point {
-            u,
-            simulation,
-            residuals,
-        })
+        self.iterate(u, simulation).ok()
     }
 
     /// Refines `start` (simulated on this problem's model as `simulation`)
     /// with at most `budget` further solves; `on_progress(iteration,
-    /// evaluations, shape_error_percent, simulation)` hears every Jacobian
-    /// and every accepted step.
+    /// evaluations, simulation)` hears every Jacobian and every accepted
+    /// step.
     pub fn refine(
         &self,
         start: Design,
         simulation: Simulation,
         budget: usize,
-        on_progress: &mut dyn FnMut(usize, usize, f64, &Simulation),
+        on_progress: &mut dyn FnMut(usize, usize, &Simulation),
     ) -> Result<Refined, DesignRunError> {
         let space = DesignSpace::new(
             start.patches.clone(),
@@ -169,29 +179,21 @@ impl RefineProblem<'_> {
         )
         .map_err(DesignRunError::Variables)?;
         let n = space.dimension() + usize::from(self.free_length);
-        let Some(residuals) = self.residuals(&simulation) else {
-            return Ok(Refined {
-                design: start,
-                simulation,
-                summary: RefineSummary {
-                    shape_error_before_percent: f64::INFINITY,
-                    shape_error_after_percent: f64::INFINITY,
-                    iterations: 0,
-                    solves: 0,
-                    variables: n,
-                },
-            });
-        };
-        let before = residuals.norm();
         let mut start_u = space.seed_point();
         if self.free_length {
             start_u.push(0.5);
         }
-        let mut current = Point {
-            u: start_u,
-            simulation,
-            residuals,
+        let mut current = match self.iterate(start_u, simulation) {
+            Ok(current) => current,
+            Err(simulation) => {
+                return Ok(Refined {
+                    design: start,
+                    simulation: *simulation,
+                    summary: None,
+                });
+            }
         };
+        let before = current.error;
         let mut evaluations = 0;
         let mut damping = FIRST_DAMPING;
         let mut iteration = 0;
@@ -201,12 +203,7 @@ impl RefineProblem<'_> {
             if self.cancel.load(Ordering::Relaxed) {
                 return Err(DesignRunError::Cancelled);
             }
-            on_progress(
-                iteration,
-                evaluations,
-                current.residuals.norm(),
-                &current.simulation,
-            );
+            on_progress(iteration, evaluations, &current.simulation);
             let normal = jacobian.transpose() * &jacobian;
             let gradient = jacobian.transpose() * &current.residuals;
             let floor = 1e-9 * normal.trace().max(f64::MIN_POSITIVE) / n as f64;
@@ -220,17 +217,12 @@ impl RefineProblem<'_> {
                     return Err(DesignRunError::Cancelled);
                 }
                 match trial {
-                    Some(trial) if trial.residuals.norm() < current.residuals.norm() => {
-                        let gain = 1.0 - trial.residuals.norm() / current.residuals.norm();
+                    Some(trial) if trial.error < current.error => {
+                        let gain = 1.0 - trial.error / current.error;
                         current = trial;
                         damping = (damping * 0.3).max(1e-9);
                         iteration += 1;
-                        on_progress(
-                            iteration,
-                            evaluations,
-                            current.residuals.norm(),
-                            &current.simulation,
-                        );
+                        on_progress(iteration, evaluations, &current.simulation);
                         if gain < MIN_GAIN {
                             break 'jacobians;
                         }
@@ -247,20 +239,20 @@ impl RefineProblem<'_> {
         }
         Ok(Refined {
             design: self.design_at(&space, &start, &current.u),
-            summary: RefineSummary {
+            summary: Some(RefineSummary {
                 shape_error_before_percent: before,
-                shape_error_after_percent: current.residuals.norm(),
+                shape_error_after_percent: current.error,
                 iterations: iteration,
                 solves: evaluations,
                 variables: n,
-            },
+            }),
             simulation: current.simulation,
         })
     }
 
     /// Forward-difference Jacobian of the residuals at `at`; a column whose
     /// solve failed is left zero (that variable stays put this iteration).
-    fn jacobian(&self, space: &DesignSpace, base: &Design, at: &Point) -> DMatrix<f64> {
+    fn jacobian(&self, space: &DesignSpace, base: &Design, at: &Iterate) -> DMatrix<f64> {
         let n = at.u.len();
         let columns: Vec<usize> = (0..n).collect();
         let differences = map_in_threads(&columns, self.threads, &|&j| {
@@ -338,13 +330,12 @@ mod tests {
         other.patches[0].theta_deg = 14.0;
         other.patches[0].h_mm = 17.0;
         let target = simulate(&other, &model).unwrap().centreline;
-        let target_samples = target.resample(200).unwrap();
+        let profiles = TargetProfiles::new(&target, 72, &Default::default());
         let cancel = AtomicBool::new(false);
         let bounds = VariableBounds::default();
         let problem = RefineProblem {
             model: &model,
-            target_samples: &target_samples,
-            target_length_mm: target.length(),
+            target: &profiles,
             freedom: Freedom::default(),
             bounds: &bounds,
             free_length: false,
