@@ -64,6 +64,9 @@ struct Setting {
     /// Refine solves, stated per setting rather than taken from the preset,
     /// so that each row says what it ran.
     refine: usize,
+    /// The preset's correction of the refine by a finer model (off: refine
+    /// and verify on the verification model).
+    correction: bool,
 }
 
 struct Row {
@@ -94,6 +97,7 @@ fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
         budget,
         warm_starts,
         refine,
+        correction: true,
     };
     if quick {
         let curves = vec![
@@ -112,6 +116,16 @@ fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
         let settings = vec![
             setting("draft 60 no refine", Fidelity::Draft, 60, false, 0),
             setting("draft 60 refine 60", Fidelity::Draft, 60, false, 60),
+            Setting {
+                correction: false,
+                ..setting(
+                    "draft 60 refine 60 uncorrected",
+                    Fidelity::Draft,
+                    60,
+                    false,
+                    60,
+                )
+            },
             setting(
                 "draft 60 refine 60 warm starts",
                 Fidelity::Draft,
@@ -155,9 +169,14 @@ fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
     };
     // The presets run as users get them (cold starts, the default since the
     // warm start stopped paying); one row measures warm starts against that,
-    // and one the coarse search alone (no coarse-to-fine refine).
+    // one the coarse search alone (no coarse-to-fine refine), and one the
+    // refine without its finer model's correction.
     let settings = vec![
         as_preset("draft", Fidelity::Draft, false),
+        Setting {
+            correction: false,
+            ..as_preset("draft without correction", Fidelity::Draft, false)
+        },
         setting(
             "draft without refine",
             Fidelity::Draft,
@@ -231,6 +250,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 };
                 setting.fidelity.apply(&mut request);
                 request.refine_budget = setting.refine;
+                if !setting.correction {
+                    request.correction_mesh = None;
+                }
                 // Each run is timed as a fresh process would run it.
                 patchwork_core::inverse::evaluation_cache::clear();
                 let started = Instant::now();

@@ -37,6 +37,10 @@ pub struct JobOptions {
     /// Forward evaluations of the search (default: the fidelity's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub budget: Option<usize>,
+    /// Evaluations the search may go without a better design before it ends
+    /// (default: the fidelity's; 0: spend the whole budget).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub patience: Option<usize>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seed: Option<u64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -52,6 +56,11 @@ pub struct JobOptions {
     /// run's last stage (default: the fidelity's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refine: Option<usize>,
+    /// Correct the refine by the fidelity's finer model and verify on it
+    /// (default true; `fine` refines on its finest model, so there it changes
+    /// nothing); false refines and verifies on the verification model.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correction: Option<bool>,
     /// CMA-ES's initial step as a fraction of each variable's range.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial_step: Option<f64>,
@@ -101,6 +110,7 @@ impl JobRequest {
             ));
         }
         for (field, value) in [
+            ("options.patience", self.options.patience),
             ("options.polish", self.options.polish),
             ("options.refine", self.options.refine),
         ] {
@@ -147,6 +157,12 @@ impl JobRequest {
         }
         if let Some(refine) = self.options.refine {
             request.refine_budget = refine;
+        }
+        if let Some(patience) = self.options.patience {
+            request.search_patience = patience;
+        }
+        if self.options.correction == Some(false) {
+            request.correction_mesh = None;
         }
         Ok(Prepared { target, request })
     }

@@ -110,6 +110,14 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "options.refine",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "options": {"patience": 10_000_000}}),
+            "options.patience",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "options": {"correction": "yes"}}),
+            "options.correction",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "options": {"fidelity": "ultra"}}),
             "options.fidelity",
         ),

@@ -200,11 +200,12 @@ pub fn quick_job(budget: usize) -> Value {
     })
 }
 
-/// A job that runs for about 20 ms per evaluation (a part-turn helix).
+/// A job that runs for about 20 ms per evaluation (a part-turn helix) and
+/// spends its whole budget (no early end when the search stalls).
 pub fn long_job(budget: usize) -> Value {
     json!({
         "curve": {"preset": "helix", "params": {"radius_mm": 15, "pitch_mm": 40, "turns": 0.6}},
-        "options": {"budget": budget, "seed": 5, "fidelity": "draft"}
+        "options": {"budget": budget, "seed": 5, "fidelity": "draft", "patience": 0}
     })
 }
 

@@ -1,18 +1,20 @@
 //! Issue 4's round-trip evidence: ten random feasible designs (seed 2026) on a
-//! 150 mm balloon → simulate (the draft preset's verification model) → design
+//! 150 mm balloon → simulate (the draft preset's finest model: its
+//! correction's, on which it verifies) → design
 //! from that centreline alone (balloon length from mechanics, draft preset,
 //! budget 200, two threads) → shape error on the same model. Prints the table
 //! in BENCHMARKS.md. About two minutes:
 //! `cargo run --release -p patchwork-core --example round_trips`
 //!
 //! Settings to compare, as `key=value` arguments: `fidelity=draft|standard|fine`
-//! (the search and verification models; the target is always simulated on the
-//! verification model), `budget=200`, `sigma=0.2` (CMA-ES's initial step in
-//! the unit cube), `shape=10` (weight of the shape error in the objective),
-//! `polish=0` (CMA-ES polish evaluations on the verification model),
-//! `refine=N` (solves of the Levenberg–Marquardt refine there; default the
-//! fidelity's), `trips=10`, `search=verify`
-//! (search on the verification model itself: no model error in the loop).
+//! (the search, verification and correction models; the target is always
+//! simulated on the model the result is verified on), `correction=none`
+//! (refine and verify on the verification model, uncorrected), `budget=200`,
+//! `sigma=0.2` (CMA-ES's initial step in the unit cube), `shape=10` (weight of
+//! the shape error in the objective), `polish=0` (CMA-ES polish evaluations on
+//! the verification model), `refine=N` (solves of the Levenberg–Marquardt
+//! refine there; default the fidelity's), `trips=10`, `search=verify` (search
+//! on the verification model itself: no model error in the loop).
 
 use std::sync::atomic::AtomicBool;
 
@@ -31,6 +33,7 @@ struct Settings {
     refine: Option<usize>,
     trips: u64,
     search_on_verify: bool,
+    uncorrected: bool,
 }
 
 fn settings() -> Settings {
@@ -43,6 +46,7 @@ fn settings() -> Settings {
         refine: None,
         trips: 10,
         search_on_verify: false,
+        uncorrected: false,
     };
     for arg in std::env::args().skip(1) {
         let (key, value) = arg.split_once('=').expect("arguments are key=value");
@@ -56,6 +60,7 @@ fn settings() -> Settings {
             "refine" => s.refine = Some(number() as usize),
             "trips" => s.trips = number() as u64,
             "search" if value == "verify" => s.search_on_verify = true,
+            "correction" if value == "none" => s.uncorrected = true,
             _ => panic!("unknown setting {key}"),
         }
     }
@@ -65,13 +70,14 @@ fn settings() -> Settings {
 fn main() {
     let settings = settings();
     println!(
-        "fidelity {:?}, budget {}, σ₀ {}, shape weight {}, polish {}, refine {}, search on the verification model: {}",
+        "fidelity {:?}, budget {}, σ₀ {}, shape weight {}, polish {}, refine {}, corrected: {}, search on the verification model: {}",
         settings.fidelity,
         settings.budget,
         settings.sigma,
         settings.shape,
         settings.polish,
         settings.refine.unwrap_or(settings.fidelity.refine_budget()),
+        !settings.uncorrected && settings.fidelity.correction_mesh().is_some(),
         settings.search_on_verify
     );
     let mut rng = SeededRng::new(2026);
@@ -123,11 +129,15 @@ fn main() {
         if let Some(refine) = settings.refine {
             request.refine_budget = refine;
         }
+        if settings.uncorrected {
+            request.correction_mesh = None;
+        }
         if settings.search_on_verify {
             request.search_mesh = request.verify_mesh;
         }
+        // The target comes from the model the result is verified on.
         let model = SimulateOptions {
-            mesh: request.verify_mesh,
+            mesh: request.correction_mesh.unwrap_or(request.verify_mesh),
             ..SimulateOptions::default()
         };
         let target = simulate(&truth, &model)

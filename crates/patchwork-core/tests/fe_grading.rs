@@ -103,6 +103,68 @@ fn warm_start_carries_across_a_moved_fine_zone() {
     );
 }
 
+/// The refine's length steps cut the balloon 1 % longer (patch positions and
+/// lengths scaled with it): the old state is carried onto the new balloon's
+/// rings at the same fraction of the length and lands on the cold solve's
+/// state in fewer Newton iterations.
+#[test]
+fn warm_start_carries_across_a_longer_balloon() {
+    let mesh = options(MeshSpec::uniform(2.0));
+    let before = simulate(&design(150.0), &mesh).expect("converges");
+    let mut longer = design(150.0);
+    longer.balloon.length_mm *= 1.01;
+    for p in &mut longer.patches {
+        p.y_mm *= 1.01;
+        p.h_mm *= 1.01;
+    }
+    let cold = simulate(&longer, &mesh).expect("converges");
+    let warm = simulate_from(&longer, &mesh, Some(&before)).expect("converges");
+    println!(
+        "Newton iterations: cold {}, warm across lengths {}; largest gap {:.2e} mm",
+        cold.stats.iterations,
+        warm.stats.iterations,
+        largest_gap(&warm, &cold)
+    );
+    assert_eq!(warm.mesh.ring_y, cold.mesh.ring_y);
+    assert!(warm.stats.iterations < cold.stats.iterations);
+    assert!(
+        largest_gap(&warm, &cold) < 1e-3,
+        "{}",
+        largest_gap(&warm, &cold)
+    );
+}
+
+/// The corrected refine starts its finer model from the verification
+/// model's state: a graded 1 mm solution (sections of 20 sides) carried onto
+/// a uniform 0.5 mm mesh (40 sides, twice the cap rings) lands on the cold
+/// solve's state in fewer Newton iterations.
+#[test]
+fn warm_start_carries_onto_a_finer_mesh() {
+    let mut short = design(50.0);
+    short.balloon.length_mm = 100.0;
+    let coarse = simulate(&short, &options(MeshSpec::graded(1.0, 4.0))).expect("converges");
+    let finer = options(MeshSpec::uniform(0.5));
+    let cold = simulate(&short, &finer).expect("converges");
+    let warm = simulate_from(&short, &finer, Some(&coarse)).expect("converges");
+    println!(
+        "Newton iterations: cold {}, warm from the coarser mesh {} ({} → {} around); {:.2} s → {:.2} s; largest gap {:.2e} mm",
+        cold.stats.iterations,
+        warm.stats.iterations,
+        coarse.mesh.around,
+        cold.mesh.around,
+        cold.elapsed.as_secs_f64(),
+        warm.elapsed.as_secs_f64(),
+        largest_gap(&warm, &cold)
+    );
+    assert_ne!(coarse.mesh.around, cold.mesh.around);
+    assert!(warm.stats.iterations < cold.stats.iterations);
+    assert!(
+        largest_gap(&warm, &cold) < 1e-3,
+        "{}",
+        largest_gap(&warm, &cold)
+    );
+}
+
 #[test]
 fn a_straight_size_below_the_element_size_is_refused() {
     let error = simulate(&design(150.0), &options(MeshSpec::graded(2.0, 1.0))).unwrap_err();

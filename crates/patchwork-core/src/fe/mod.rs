@@ -10,6 +10,7 @@
 //! Not modelled: gravity, self-contact (a knot passes through itself), inflation
 //! dynamics, wall-thickness variation of real balloons, bending stiffness.
 
+mod carry;
 pub mod centreline;
 pub mod element;
 pub mod export;

@@ -3,7 +3,8 @@
 
 use std::time::{Duration, Instant};
 
-use super::centreline::{Ring, ring_points, rings};
+use super::carry::carried_state;
+use super::centreline::{Ring, rings};
 use super::kinematic::kinematic_state;
 use super::mesh::{MeshSpec, TubeMesh};
 use super::model::Model;
@@ -240,34 +241,6 @@ fn finish(
         stats,
         patch_share,
     })
-}
-
-/// `previous`'s converged positions carried onto `mesh`, if the two meshes
-/// share the balloon, the cross-section and the cap: as they are on the same
-/// rings; otherwise each new ring interpolated between the old rings around it
-/// (a graded mesh whose fine zones moved with the patches — exact along the
-/// straight stretches, where the rings are coarse).
-fn carried_state(previous: &Simulation, mesh: &TubeMesh) -> Option<Vec<Point>> {
-    let old = &previous.mesh;
-    let tube_nodes = |m: &TubeMesh| m.ring_y.len() * m.around;
-    let compatible = old.around == mesh.around
-        && old.radius == mesh.radius
-        && old.length == mesh.length
-        && old.nodes.len() - tube_nodes(old) == mesh.nodes.len() - tube_nodes(mesh);
-    if !compatible {
-        return None;
-    }
-    if old.ring_y == mesh.ring_y {
-        return Some(previous.positions.clone());
-    }
-    let x = &previous.positions;
-    let mut carried: Vec<Point> = mesh
-        .ring_y
-        .iter()
-        .flat_map(|&y| ring_points(old, x, y))
-        .collect();
-    carried.extend_from_slice(&x[tube_nodes(old)..]);
-    Some(carried)
 }
 
 /// The bare tube's uniform state mapped onto the mesh, shaped so every element

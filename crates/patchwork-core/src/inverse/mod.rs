@@ -2,6 +2,7 @@
 //! variables and their bounds, the objective, and the KSA → CMA-ES → verify
 //! pipeline.
 
+mod correction;
 pub mod evaluation_cache;
 pub mod fidelity;
 mod incumbent;

@@ -42,6 +42,12 @@ pub struct DesignRequest {
     pub objective: ObjectiveOptions,
     /// Forward evaluations for the search.
     pub budget: usize,
+    /// The search ends early once this many evaluations have passed without
+    /// improving its best design (0: never). On the Hilbert curve and the
+    /// pancake the draft search never beats the KSA seed, and the refine ends
+    /// at the same design either way; on the spring it improves three times
+    /// in its first 97 evaluations (BENCHMARKS.md).
+    pub search_patience: usize,
     pub seed: u64,
     pub threads: usize,
     pub search_mesh: MeshSpec,
@@ -69,6 +75,11 @@ pub struct DesignRequest {
     /// (0: none). Each iteration costs one solve per variable for the
     /// Jacobian and one or more for the step. Not checkpointed.
     pub refine_budget: usize,
+    /// A finer model that corrects the refine's aim and verifies its result
+    /// (see `correction.rs`): the refine's solves stay on the verification
+    /// model, and each correction round costs one solve of this one. None:
+    /// the refine and the verification are the verification model's.
+    pub correction_mesh: Option<MeshSpec>,
     /// CMA-ES's initial step σ₀ in the unit cube of the free variables (each
     /// variable's range maps to [0, 1]).
     pub initial_step: f64,
@@ -113,6 +124,7 @@ impl Default for DesignRequest {
             bounds: VariableBounds::default(),
             objective: ObjectiveOptions::default(),
             budget: 600,
+            search_patience: 0,
             seed: 1,
             threads: 1,
             search_mesh: MeshSpec::uniform(2.0),
@@ -124,6 +136,7 @@ impl Default for DesignRequest {
             warm_starts: false,
             polish_budget: 0,
             refine_budget: 0,
+            correction_mesh: None,
             initial_step: INITIAL_STEP,
             start: Start::Ksa,
         }
@@ -252,6 +265,9 @@ pub struct DesignCheckpoint {
     pub best_patches: Vec<Patch>,
     /// Forward evaluations spent, the seed's included.
     pub evaluations: usize,
+    /// `evaluations` when the best design last improved (the seed: 1).
+    #[serde(default)]
+    pub improved_at: usize,
     /// Wall time spent on the run so far, over every process that ran it.
     pub elapsed_s: f64,
 }
@@ -375,6 +391,7 @@ pub fn design_resumable(
                 optimizer: None,
                 best_objective: seed_objective,
                 evaluations: 1,
+                improved_at: 1,
                 elapsed_s: elapsed(),
             };
             checkpoint(&state);
@@ -411,7 +428,11 @@ pub fn design_resumable(
             if cancel.load(Ordering::Relaxed) {
                 return Err(DesignRunError::Cancelled);
             }
+            let previous_best = state.best_objective;
             (state.best_objective, state.best_patches) = incumbent.best();
+            if state.best_objective < previous_best {
+                state.improved_at = state.evaluations;
+            }
             report(
                 Stage::Search,
                 generation,
@@ -424,6 +445,10 @@ pub fn design_resumable(
             checkpoint(&state);
             if let Some(ended) = ended {
                 break ended;
+            }
+            let patience = request.search_patience;
+            if patience > 0 && state.evaluations >= state.improved_at + patience {
+                break Termination::Stalled;
             }
         };
         termination = ended;
@@ -490,26 +515,39 @@ pub fn design_resumable(
             freedom: request.freedom,
             bounds: &bounds,
             free_length: !request.fix_length,
+            correction: None,
             threads: request.threads,
             cancel,
         };
         let spent = state.evaluations;
-        let refined = problem.refine(
-            best,
-            simulation,
-            request.refine_budget,
-            &mut |iteration, evaluations, simulation| {
-                let objective = profiles.objective(&simulation.centreline, &request.objective);
-                report(
-                    Stage::Refine,
-                    iteration,
-                    spent + evaluations,
-                    objective,
-                    0.0,
-                    observer,
-                )
-            },
-        )?;
+        let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
+            let objective = profiles.objective(&simulation.centreline, &request.objective);
+            report(
+                Stage::Refine,
+                iteration,
+                spent + evaluations,
+                objective,
+                0.0,
+                observer,
+            )
+        };
+        let refined = match request.correction_mesh {
+            Some(mesh) => {
+                let finer = SimulateOptions {
+                    mesh,
+                    rings: request.rings,
+                    ..SimulateOptions::default()
+                };
+                problem.refine_corrected(
+                    &finer,
+                    best,
+                    simulation,
+                    request.refine_budget,
+                    &mut on_progress,
+                )?
+            }
+            None => problem.refine(best, simulation, request.refine_budget, &mut on_progress)?,
+        };
         best = refined.design;
         simulation = refined.simulation;
         state.evaluations += refined.summary.map_or(0, |r| r.solves);

@@ -38,7 +38,7 @@ use serde::{Deserialize, Serialize};
 use super::objective::TargetProfiles;
 use super::pipeline::{DesignRunError, stretch_balloon};
 use super::variables::{DesignSpace, Freedom, VariableBounds};
-use crate::curve::AlignedSamples;
+use crate::curve::{AlignedSamples, Curve};
 use crate::design::Design;
 use crate::fe::{SimulateOptions, Simulation, simulate_from};
 use crate::parallel::map_in_threads;
@@ -64,6 +64,9 @@ pub(super) struct RefineProblem<'a> {
     pub bounds: &'a VariableBounds,
     /// The balloon length is a variable too (the request does not fix it).
     pub free_length: bool,
+    /// Added to the model's residuals: a finer model's correction
+    /// ([`super::correction`]); none for the model as it is.
+    pub correction: Option<&'a DVector<f64>>,
     pub threads: usize,
     pub cancel: &'a AtomicBool,
 }
@@ -78,16 +81,25 @@ pub(super) struct Refined {
 }
 
 /// What the refine did, for the report: the shape error on the verification
-/// model before and after it, its accepted steps and its solves.
+/// model (the correction's model when there is one) before and after it, its
+/// accepted steps and its solves.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RefineSummary {
     pub shape_error_before_percent: f64,
     pub shape_error_after_percent: f64,
     pub iterations: usize,
+    /// Solves on the verification model (the correction's not counted).
     pub solves: usize,
     /// Free variables: a step needs this many solves for its Jacobian, plus
     /// one, so a smaller budget takes none.
     pub variables: usize,
+    /// Element size of the finer model that corrected the refine and
+    /// verified its result; absent when the refine ran uncorrected.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corrected_on_element_mm: Option<f64>,
+    /// Solves on that finer model.
+    #[serde(default)]
+    pub correction_solves: usize,
 }
 
 /// A design evaluated by the refine: its unit-cube point, simulation,
@@ -104,10 +116,24 @@ impl RefineProblem<'_> {
     /// (|r| = shape error in %); the simulation back if its centreline cannot
     /// be aligned with the target.
     fn iterate(&self, u: Vec<f64>, simulation: Simulation) -> Result<Iterate, Box<Simulation>> {
-        let Ok(aligned) = AlignedSamples::new(&simulation.centreline, &self.target.shape_samples)
-        else {
+        let Some(mut residuals) = self.residuals(&simulation.centreline) else {
             return Err(Box::new(simulation));
         };
+        if let Some(correction) = self.correction {
+            residuals += correction;
+        }
+        Ok(Iterate {
+            u,
+            simulation,
+            error: residuals.norm(),
+            residuals,
+        })
+    }
+
+    /// The scaled aligned residuals of `centreline` against the target (|r|
+    /// is the shape error in %); none if it cannot be aligned.
+    pub fn residuals(&self, centreline: &Curve) -> Option<DVector<f64>> {
+        let aligned = AlignedSamples::new(centreline, &self.target.shape_samples).ok()?;
         let n = aligned.residuals.len() as f64;
         let scale = 100.0 / (self.target.curve.length() * n.sqrt());
         let residuals = DVector::from_iterator(
@@ -117,16 +143,7 @@ impl RefineProblem<'_> {
                 .iter()
                 .flat_map(|p| p.iter().map(|c| c * scale)),
         );
-        let error = residuals.norm();
-        if !error.is_finite() {
-            return Err(Box::new(simulation));
-        }
-        Ok(Iterate {
-            u,
-            simulation,
-            residuals,
-            error,
-        })
+        residuals.norm().is_finite().then_some(residuals)
     }
 
     /// The design at `u`: the space's patches, then the balloon (and the
@@ -245,6 +262,8 @@ impl RefineProblem<'_> {
                 iterations: iteration,
                 solves: evaluations,
                 variables: n,
+                corrected_on_element_mm: None,
+                correction_solves: 0,
             }),
             simulation: current.simulation,
         })
@@ -339,6 +358,7 @@ mod tests {
             freedom: Freedom::default(),
             bounds: &bounds,
             free_length: false,
+            correction: None,
             threads: 2,
             cancel: &cancel,
         };

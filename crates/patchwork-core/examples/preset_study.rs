@@ -1,0 +1,114 @@
+//! Where a preset's time goes and what its error is on the common reference
+//! model (uniform 0.5 mm), for one reference curve, seed by seed: the study
+//! behind the presets' search budgets and refine settings (BENCHMARKS.md,
+//! "Run time against error").
+//!
+//! `cargo run --release -p patchwork-core --example preset_study -- [key=value ...]`
+//!
+//! Settings: `curve=hilbert|pancake|spring`, `fidelity=draft|standard|fine`
+//! (the preset the others modify), `budget=N` (search evaluations; default
+//! the preset's), `refine=N` (refine solves; default the preset's),
+//! `correction=none|preset|MM|MM/MM` (the uniform or graded mesh whose
+//! centreline corrects the refine's model; default the preset's), `seeds=3`, `progress=1` (print
+//! every stage and generation).
+
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use patchwork_core::curve::ReferenceCurve;
+use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::inverse::{DesignProgress, DesignRequest, Fidelity, assess, design};
+
+fn main() {
+    let mut curve = ReferenceCurve::Hilbert;
+    let mut fidelity = Fidelity::Draft;
+    let mut budget = None;
+    let mut refine = None;
+    let mut correction: Option<Option<MeshSpec>> = None;
+    let mut seeds = 3;
+    let mut progress = false;
+    for arg in std::env::args().skip(1) {
+        let (key, value) = arg.split_once('=').expect("arguments are key=value");
+        let number = || value.parse::<f64>().expect("a number");
+        match key {
+            "curve" => {
+                curve = match value {
+                    "hilbert" => ReferenceCurve::Hilbert,
+                    "pancake" => ReferenceCurve::Pancake,
+                    "spring" => ReferenceCurve::Spring,
+                    _ => panic!("curve is hilbert, pancake or spring"),
+                }
+            }
+            "fidelity" => fidelity = value.parse().expect("a fidelity name"),
+            "budget" => budget = Some(number() as usize),
+            "refine" => refine = Some(number() as usize),
+            "correction" if value == "none" => correction = Some(None),
+            "correction" if value == "preset" => correction = None,
+            "correction" => {
+                correction = Some(Some(match value.split_once('/') {
+                    Some((fine, straight)) => MeshSpec::graded(
+                        fine.parse().expect("a number"),
+                        straight.parse().expect("a number"),
+                    ),
+                    None => MeshSpec::uniform(number()),
+                }))
+            }
+            "seeds" => seeds = number() as u64,
+            "progress" => progress = value == "1",
+            _ => panic!("unknown setting {key}"),
+        }
+    }
+    let target = curve.curve();
+    let reference = MeshSpec::uniform(0.5);
+    println!(
+        "| seed | wall s | evaluations | refine solves | shape error % (own) | shape error % (reference 0.5 mm) |"
+    );
+    println!("|---|---|---|---|---|---|");
+    let mut rows = Vec::new();
+    for seed in 1..=seeds {
+        let mut request = DesignRequest {
+            seed,
+            threads: 2,
+            budget: budget.unwrap_or(fidelity.budget()),
+            ..DesignRequest::default()
+        };
+        fidelity.apply(&mut request);
+        if let Some(refine) = refine {
+            request.refine_budget = refine;
+        }
+        if let Some(correction) = correction {
+            request.correction_mesh = correction;
+        }
+        patchwork_core::inverse::evaluation_cache::clear();
+        let started = Instant::now();
+        let mut observer = |p: &DesignProgress| {
+            if progress {
+                eprintln!(
+                    "{:?} {} after {} evaluations: best objective {:.4} ({:.1} s)",
+                    p.stage, p.generation, p.evaluations, p.best_objective, p.elapsed_s
+                )
+            }
+        };
+        let outcome = design(&target, &request, &AtomicBool::new(false), &mut observer)
+            .expect("the design runs");
+        let wall = started.elapsed().as_secs_f64();
+        let on_reference = assess(&target, &outcome.design, reference, &request)
+            .map_or(f64::NAN, |m| m.shape_error_percent);
+        println!(
+            "| {seed} | {wall:.1} | {} | {} | {:.3} | {on_reference:.3} |",
+            outcome.evaluations,
+            outcome.refine.map_or(0, |r| r.solves),
+            outcome.metrics.shape_error_percent
+        );
+        rows.push((wall, on_reference));
+    }
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    println!(
+        "median: {:.1} s, {:.3} % on the reference model",
+        median(rows.iter().map(|r| r.0).collect()),
+        median(rows.iter().map(|r| r.1).collect())
+    );
+}
