@@ -356,7 +356,13 @@ pub fn design_resumable(
     };
 
     let (mut state, warm_start) = match resume {
-        Some(state) => {
+        Some(mut state) => {
+            // A checkpoint from before the patience existed does not know
+            // when its best last improved: count from the resume, so the
+            // search is not stopped at once.
+            if state.improved_at == 0 {
+                state.improved_at = state.evaluations;
+            }
             // The incumbent's state warms the next solves, as it did before
             // (one extra solve, only when warm starts are on).
             let warm = if request.warm_starts {
