@@ -60,6 +60,20 @@ fn small_target() -> (Design, Curve) {
     )
 }
 
+/// The small case's target and a request for it: the length fixed, search
+/// and verification on the 2 mm model, `budget` search evaluations.
+fn small_request(budget: usize) -> (DesignRequest, Curve) {
+    let (base, target) = small_target();
+    let request = DesignRequest {
+        base,
+        fix_length: true,
+        budget,
+        verify_mesh: MeshSpec::uniform(2.0),
+        ..DesignRequest::default()
+    };
+    (request, target)
+}
+
 /// The round trip of the CI tests: a 20 × 2.5 mm patch at 15° on a 120 mm
 /// balloon, the length fixed, search and verification on the 2 mm model;
 /// the truth, its centreline and the request with `budget` search
@@ -230,14 +244,10 @@ fn a_finer_model_corrects_the_refine() {
 /// run reports `Stalled` and spends less than its budget.
 #[test]
 fn an_impatient_search_stops_when_it_stalls() {
-    let (base, target) = small_target();
+    let (request, target) = small_request(200);
     let request = DesignRequest {
-        base,
-        fix_length: true,
-        budget: 200,
         search_patience: 1,
-        verify_mesh: MeshSpec::uniform(2.0),
-        ..DesignRequest::default()
+        ..request
     };
     let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {}).unwrap();
     println!(
@@ -252,15 +262,11 @@ fn an_impatient_search_stops_when_it_stalls() {
 /// half-refined design.
 #[test]
 fn cancellation_reaches_the_refine() {
-    let (base, target) = small_target();
+    let (request, target) = small_request(16);
     let cancel = AtomicBool::new(false);
     let request = DesignRequest {
-        base,
-        fix_length: true,
-        budget: 16,
         refine_budget: 200,
-        verify_mesh: MeshSpec::uniform(2.0),
-        ..DesignRequest::default()
+        ..request
     };
     let mut refined = false;
     let result = design(&target, &request, &cancel, &mut |p| {
@@ -309,14 +315,10 @@ fn cancellation_stops_the_run() {
 #[test]
 fn a_run_resumes_from_a_serialised_checkpoint() {
     use patchwork_core::inverse::{DesignCheckpoint, DesignHooks, design_resumable};
-    let (base, target) = small_target();
+    let (request, target) = small_request(50);
     let request = DesignRequest {
-        base,
-        fix_length: true,
-        budget: 50,
         threads: 1,
-        verify_mesh: MeshSpec::uniform(2.0),
-        ..DesignRequest::default()
+        ..request
     };
     let cancel = AtomicBool::new(false);
     let mut saved: Vec<String> = Vec::new();
@@ -371,15 +373,11 @@ fn a_run_resumes_from_a_serialised_checkpoint() {
 /// the search's best (its incumbent starts there).
 #[test]
 fn polish_stage_runs_on_the_verification_model() {
-    let (base, target) = small_target();
+    let (request, target) = small_request(30);
     let unpolished = DesignRequest {
-        base,
-        fix_length: true,
-        budget: 30,
         threads: 2,
         search_mesh: MeshSpec::uniform(3.0),
-        verify_mesh: MeshSpec::uniform(2.0),
-        ..DesignRequest::default()
+        ..request
     };
     let polished = DesignRequest {
         polish_budget: 20,
