@@ -49,8 +49,8 @@ pub struct DesignArgs {
     /// Solves of the refine: Levenberg–Marquardt on the shape error on the
     /// verification model, the run's last stage (default: the fidelity's,
     /// 120/120/240 for draft/standard/fine; 0 turns it off).
-    /// Each iteration costs one solve per free variable and one per trial
-    /// step.
+    /// A forward-difference Jacobian costs one solve per free variable, a
+    /// trial step one (steps between Jacobians use Broyden updates).
     #[arg(long)]
     refine: Option<usize>,
     /// Refine on the verification model without the finer model's
@@ -280,11 +280,13 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
             refine.variables + 1
         )),
         Some(refine) => s.push_str(&format!(
-            "refine:       shape error {:.2} % → {:.2} % in {} steps ({} solves)\n",
+            "refine:       shape error {:.2} % → {:.2} % in {} steps ({} solves, {} of them for {} Jacobians)\n",
             refine.shape_error_before_percent,
             refine.shape_error_after_percent,
             refine.iterations,
-            refine.solves
+            refine.solves,
+            refine.jacobians * refine.variables,
+            refine.jacobians
         )),
         None => {}
     }

@@ -87,12 +87,15 @@ impl RefineProblem<'_> {
             if self.cancel.load(Ordering::Relaxed) {
                 return Err(DesignRunError::Cancelled);
             }
-            return self.refine(start, simulation, budget, on_progress);
+            return self.refine(start, simulation, budget, None, on_progress);
         };
         let before = best.error;
         let mut correction_solves = 1;
         let (mut design, mut coarse) = (start, simulation);
-        let (mut solves, mut iterations, mut variables) = (0, 0, 0);
+        let (mut solves, mut iterations, mut jacobians, mut variables) = (0, 0, 0, 0);
+        // The correction is a constant, so every round's residuals have the
+        // same Jacobian: a round goes on from the last round's.
+        let mut jacobian = None;
         for round in 0..CORRECTION_ROUNDS {
             // `best` is the design the verification model last stood at.
             let Some(on_model) = self.residuals(&coarse.centreline) else {
@@ -103,15 +106,25 @@ impl RefineProblem<'_> {
                 correction: Some(&correction),
                 ..*self
             };
-            let share = (budget - solves) / (CORRECTION_ROUNDS - round);
-            let refined = corrected.refine(design, coarse, share, &mut |i, e, s| {
+            // The first round pays the Jacobian (one solve per variable);
+            // the rounds share the rest, since later ones go on from it.
+            let remaining = budget - solves;
+            let jacobian_cost = if jacobian.is_none() {
+                self.variables(&design).min(remaining)
+            } else {
+                0
+            };
+            let share = jacobian_cost + (remaining - jacobian_cost) / (CORRECTION_ROUNDS - round);
+            let refined = corrected.refine(design, coarse, share, jacobian, &mut |i, e, s| {
                 on_progress(iterations + i, solves + e, s)
             })?;
+            jacobian = refined.jacobian;
             let Some(summary) = refined.summary else {
                 break;
             };
             solves += summary.solves;
             iterations += summary.iterations;
+            jacobians += summary.jacobians;
             variables = summary.variables;
             (design, coarse) = (refined.design, refined.simulation);
             if summary.iterations == 0 {
@@ -136,11 +149,13 @@ impl RefineProblem<'_> {
                 shape_error_before_percent: before,
                 shape_error_after_percent: best.error,
                 iterations,
+                jacobians,
                 solves,
                 variables,
                 corrected_on_element_mm: Some(finer.mesh.element_mm),
                 correction_solves,
             }),
+            jacobian,
         })
     }
 }

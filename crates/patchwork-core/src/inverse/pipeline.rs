@@ -552,7 +552,13 @@ pub fn design_resumable(
                     &mut on_progress,
                 )?
             }
-            None => problem.refine(best, simulation, request.refine_budget, &mut on_progress)?,
+            None => problem.refine(
+                best,
+                simulation,
+                request.refine_budget,
+                None,
+                &mut on_progress,
+            )?,
         };
         best = refined.design;
         simulation = refined.simulation;

@@ -26,9 +26,19 @@
 //! each solve warm-started from the current state, the columns in parallel.
 //! Step: (JᵀJ + λ D) δ = −Jᵀr with D = diag(JᵀJ) (Marquardt's scaling, floored
 //! so a variable the shape does not see stays put), clamped into the cube;
-//! accepted only if |r| falls (λ × 0.3), else λ × 4 and again. It stops when
-//! the budget cannot pay another Jacobian, when an accepted step gains less
-//! than `MIN_GAIN` of |r|, or when λ passes `MAX_DAMPING`.
+//! accepted only if |r| falls (λ × 0.3), else λ × 4 and again.
+//!
+//! A forward-difference Jacobian costs one solve per variable (31 on the
+//! Hilbert curve), a step one. So after every trial, accepted or not, J gets
+//! Broyden's rank-one secant update (Madsen, Nielsen & Tingleff, "Methods for
+//! non-linear least squares problems", 2004, §3.4) and the next step uses it;
+//! forward differences are taken again only when the secant Jacobian fails:
+//! `STALE_REJECTIONS` rejected steps in a row, no step left, or an accepted
+//! step that gains less than `MIN_GAIN`. It stops when the budget cannot pay
+//! the next solve (or the next Jacobian), or when a *fresh* Jacobian fails:
+//! its accepted step gains less than `MIN_GAIN` of |r|, or λ passes
+//! `MAX_DAMPING`. So every stop but the budget's is confirmed by forward
+//! differences at the final point.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -55,6 +65,9 @@ const MAX_DAMPING: f64 = 1e6;
 const MIN_GAIN: f64 = 1e-3;
 /// The balloon length's range in the refine: ±10 % of its start.
 const LENGTH_WINDOW: f64 = 0.1;
+/// Rejected steps in a row after which a secant (Broyden-updated) Jacobian
+/// is replaced by forward differences.
+const STALE_REJECTIONS: usize = 3;
 
 /// What the refine needs to evaluate a design.
 pub(super) struct RefineProblem<'a> {
@@ -78,6 +91,9 @@ pub(super) struct Refined {
     pub design: Design,
     pub simulation: Simulation,
     pub summary: Option<RefineSummary>,
+    /// The last Jacobian (Broyden-updated to the last trial), for a refine
+    /// that goes on from here.
+    pub jacobian: Option<DMatrix<f64>>,
 }
 
 /// What the refine did, for the report: the shape error on the verification
@@ -88,6 +104,10 @@ pub struct RefineSummary {
     pub shape_error_before_percent: f64,
     pub shape_error_after_percent: f64,
     pub iterations: usize,
+    /// Forward-difference Jacobians among the solves (the other steps used
+    /// Broyden-updated ones).
+    #[serde(default)]
+    pub jacobians: usize,
     /// Solves on the verification model (the correction's not counted).
     pub solves: usize,
     /// Free variables: a step needs this many solves for its Jacobian, plus
@@ -109,6 +129,38 @@ struct Iterate {
     simulation: Simulation,
     residuals: DVector<f64>,
     error: f64,
+}
+
+/// The Jacobian of the residuals in the unit-cube variables: forward
+/// differences at the current point (`fresh`), or a secant approximation
+/// carried along the steps by Broyden's update.
+struct Jacobian {
+    matrix: DMatrix<f64>,
+    fresh: bool,
+}
+
+impl Jacobian {
+    /// Broyden's rank-one update from a step `from` → `to` (accepted or
+    /// not); see [`broyden_update`].
+    fn update(&mut self, from: &Iterate, to: &Iterate) {
+        let step =
+            DVector::from_iterator(from.u.len(), to.u.iter().zip(&from.u).map(|(b, a)| b - a));
+        broyden_update(&mut self.matrix, &step, &(&to.residuals - &from.residuals));
+    }
+}
+
+/// Broyden's rank-one update: J ← J + (Δr − J δ) δᵀ / (δᵀδ), the least
+/// change of J (in the Frobenius norm) that makes it reproduce the observed
+/// change `change` = Δr of the residuals along `step` = δ (the secant
+/// condition J δ = Δr); J v is kept for every v orthogonal to δ. A zero or
+/// non-finite step leaves J as it is.
+fn broyden_update(jacobian: &mut DMatrix<f64>, step: &DVector<f64>, change: &DVector<f64>) {
+    let length_squared = step.norm_squared();
+    if length_squared == 0.0 || !length_squared.is_finite() {
+        return;
+    }
+    let misfit = change - &*jacobian * step;
+    *jacobian += misfit * step.transpose() / length_squared;
 }
 
 impl RefineProblem<'_> {
@@ -146,6 +198,18 @@ impl RefineProblem<'_> {
         residuals.norm().is_finite().then_some(residuals)
     }
 
+    /// Free variables of a refine from `start` (0 if its design space cannot
+    /// be built): the solves of one forward-difference Jacobian.
+    pub fn variables(&self, start: &Design) -> usize {
+        DesignSpace::new(
+            start.patches.clone(),
+            self.freedom,
+            self.bounds,
+            start.balloon.length_mm,
+        )
+        .map_or(0, |space| space.dimension() + usize::from(self.free_length))
+    }
+
     /// The design at `u`: the space's patches, then the balloon (and the
     /// patches' axial positions and lengths) scaled by the length factor,
     /// `u`'s last coordinate when the length is free.
@@ -180,12 +244,15 @@ impl RefineProblem<'_> {
     /// Refines `start` (simulated on this problem's model as `simulation`)
     /// with at most `budget` further solves; `on_progress(iteration,
     /// evaluations, simulation)` hears every Jacobian and every accepted
-    /// step.
+    /// step. `jacobian`, if given (and of the right size), is used as the
+    /// first Jacobian instead of forward differences: a previous refine's
+    /// last one, from a nearby design.
     pub fn refine(
         &self,
         start: Design,
         simulation: Simulation,
         budget: usize,
+        jacobian: Option<DMatrix<f64>>,
         on_progress: &mut dyn FnMut(usize, usize, &Simulation),
     ) -> Result<Refined, DesignRunError> {
         let space = DesignSpace::new(
@@ -207,6 +274,7 @@ impl RefineProblem<'_> {
                     design: start,
                     simulation: *simulation,
                     summary: None,
+                    jacobian: None,
                 });
             }
         };
@@ -214,41 +282,94 @@ impl RefineProblem<'_> {
         let mut evaluations = 0;
         let mut damping = FIRST_DAMPING;
         let mut iteration = 0;
-        'jacobians: while n > 0 && evaluations + n < budget {
-            let jacobian = self.jacobian(&space, &start, &current);
-            evaluations += n;
-            if self.cancel.load(Ordering::Relaxed) {
-                return Err(DesignRunError::Cancelled);
+        let mut jacobians = 0;
+        let mut jacobian = jacobian
+            .filter(|j| j.ncols() == n && j.nrows() == current.residuals.len())
+            .map(|matrix| Jacobian {
+                matrix,
+                fresh: false,
+            });
+        // Forward differences are due at the start unless a Jacobian was
+        // handed in, and again whenever the secant one fails.
+        let mut refresh = jacobian.is_none();
+        'steps: while n > 0 && evaluations < budget {
+            if refresh {
+                if evaluations + n >= budget {
+                    break;
+                }
+                let matrix = self.forward_differences(&space, &start, &current);
+                evaluations += n;
+                jacobians += 1;
+                if self.cancel.load(Ordering::Relaxed) {
+                    return Err(DesignRunError::Cancelled);
+                }
+                on_progress(iteration, evaluations, &current.simulation);
+                jacobian = Some(Jacobian {
+                    matrix,
+                    fresh: true,
+                });
+                // The secant Jacobian's failures raised the damping; the
+                // fresh one starts from no more than the first.
+                (refresh, damping) = (false, damping.min(FIRST_DAMPING));
             }
-            on_progress(iteration, evaluations, &current.simulation);
-            let normal = jacobian.transpose() * &jacobian;
-            let gradient = jacobian.transpose() * &current.residuals;
-            let floor = 1e-9 * normal.trace().max(f64::MIN_POSITIVE) / n as f64;
+            let Some(j) = jacobian.as_mut() else {
+                break;
+            };
+            let mut rejected = 0;
             loop {
-                let Some(u) = damped_step(&normal, &gradient, damping, floor, &current.u) else {
-                    break 'jacobians;
+                let normal = j.matrix.transpose() * &j.matrix;
+                let gradient = j.matrix.transpose() * &current.residuals;
+                let floor = 1e-9 * normal.trace().max(f64::MIN_POSITIVE) / n as f64;
+                let step = damped_step(&normal, &gradient, damping, floor, &current.u);
+                if evaluations >= budget {
+                    break 'steps;
+                }
+                // No step left: from a fresh Jacobian, done; from a stale
+                // one, take forward differences.
+                let Some(u) = step else {
+                    if j.fresh {
+                        break 'steps;
+                    }
+                    refresh = true;
+                    continue 'steps;
                 };
                 evaluations += 1;
                 let trial = self.evaluate(&space, &start, u, &current.simulation);
                 if self.cancel.load(Ordering::Relaxed) {
                     return Err(DesignRunError::Cancelled);
                 }
+                if let Some(trial) = &trial {
+                    j.update(&current, trial);
+                }
                 match trial {
                     Some(trial) if trial.error < current.error => {
                         let gain = 1.0 - trial.error / current.error;
+                        let stale = !j.fresh;
+                        j.fresh = false;
                         current = trial;
                         damping = (damping * 0.3).max(1e-9);
                         iteration += 1;
                         on_progress(iteration, evaluations, &current.simulation);
                         if gain < MIN_GAIN {
-                            break 'jacobians;
+                            // A small gain from a secant Jacobian may be the
+                            // Jacobian's fault: check with a fresh one.
+                            if !stale {
+                                break 'steps;
+                            }
+                            refresh = true;
                         }
-                        break;
+                        continue 'steps;
                     }
                     _ => {
                         damping *= 4.0;
-                        if damping > MAX_DAMPING || evaluations >= budget {
-                            break 'jacobians;
+                        rejected += 1;
+                        let gave_up = damping > MAX_DAMPING;
+                        if gave_up || (!j.fresh && rejected >= STALE_REJECTIONS) {
+                            if j.fresh {
+                                break 'steps;
+                            }
+                            refresh = true;
+                            continue 'steps;
                         }
                     }
                 }
@@ -260,18 +381,25 @@ impl RefineProblem<'_> {
                 shape_error_before_percent: before,
                 shape_error_after_percent: current.error,
                 iterations: iteration,
+                jacobians,
                 solves: evaluations,
                 variables: n,
                 corrected_on_element_mm: None,
                 correction_solves: 0,
             }),
             simulation: current.simulation,
+            jacobian: jacobian.map(|j| j.matrix),
         })
     }
 
     /// Forward-difference Jacobian of the residuals at `at`; a column whose
     /// solve failed is left zero (that variable stays put this iteration).
-    fn jacobian(&self, space: &DesignSpace, base: &Design, at: &Iterate) -> DMatrix<f64> {
+    fn forward_differences(
+        &self,
+        space: &DesignSpace,
+        base: &Design,
+        at: &Iterate,
+    ) -> DMatrix<f64> {
         let n = at.u.len();
         let columns: Vec<usize> = (0..n).collect();
         let differences = map_in_threads(&columns, self.threads, &|&j| {
@@ -368,7 +496,7 @@ mod tests {
         let start = problem
             .evaluate(&space, &design, space.seed_point(), &cold)
             .unwrap();
-        let jacobian = problem.jacobian(&space, &design, &start);
+        let jacobian = problem.forward_differences(&space, &design, &start);
         let mut disagreement = Vec::new();
         for j in 0..space.dimension() {
             let mut u = start.u.clone();
@@ -385,6 +513,26 @@ mod tests {
             "{disagreement:?}"
         );
         assert!(disagreement.iter().all(|d| *d < 0.5), "{disagreement:?}");
+    }
+
+    #[test]
+    fn broyden_update_meets_the_secant_condition_and_keeps_the_rest() {
+        let mut jacobian = DMatrix::from_row_slice(3, 2, &[1.0, 2.0, 0.5, -1.0, 3.0, 0.0]);
+        let before = jacobian.clone();
+        let step = DVector::from_vec(vec![0.3, -0.1]);
+        let change = DVector::from_vec(vec![0.2, 0.4, -0.7]);
+        broyden_update(&mut jacobian, &step, &change);
+        assert!((&jacobian * &step - &change).norm() < 1e-14);
+        let orthogonal = DVector::from_vec(vec![0.1, 0.3]);
+        assert!((&jacobian * &orthogonal - &before * &orthogonal).norm() < 1e-14);
+        // On a linear map the secant is exact: an exact Jacobian stays put.
+        let exact = before.clone();
+        let mut same = before.clone();
+        broyden_update(&mut same, &step, &(&exact * &step));
+        assert!((same - exact).norm() < 1e-14);
+        let mut unmoved = before.clone();
+        broyden_update(&mut unmoved, &DVector::zeros(2), &change);
+        assert_eq!(unmoved, before);
     }
 
     #[test]
