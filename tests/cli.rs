@@ -441,6 +441,7 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
         "uninflated_length_to_cut_mm",
         "evaluations",
         "profiles",
+        "at_limits",
     ] {
         assert!(!report[key].is_null(), "{key} missing");
     }
@@ -491,6 +492,28 @@ fn design_rejects_bad_options_in_one_line() {
         "--fidelity",
     );
     assert_one_line_error(&patchwork(&["bench", "--quick", "--runs", "0"]), "--runs");
+    assert_one_line_error(
+        &patchwork(&[
+            "design",
+            hilbert,
+            "--out",
+            "/tmp/x",
+            "--bounds",
+            r#"{"w_min_mm": 5}"#,
+        ]),
+        "w_min_mm",
+    );
+    assert_one_line_error(
+        &patchwork(&[
+            "design",
+            hilbert,
+            "--out",
+            "/tmp/x",
+            "--bounds",
+            r#"{"w_mni_mm": 0.5}"#,
+        ]),
+        "--bounds",
+    );
     assert_one_line_error(
         &patchwork_with_stdin(
             &["design", hilbert, "--out", "/tmp/x", "--options", "-"],

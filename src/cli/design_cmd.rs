@@ -48,7 +48,7 @@ pub struct DesignArgs {
     polish: Option<usize>,
     /// Solves of the refine: Levenberg–Marquardt on the shape error on the
     /// verification model, the run's last stage (default: the fidelity's,
-    /// 120/120/240 for draft/standard/fine; 0 turns it off).
+    /// 60/120/240 for draft/standard/fine; 0 turns it off).
     /// A forward-difference Jacobian costs one solve per free variable, a
     /// trial step one (steps between Jacobians use Broyden updates).
     #[arg(long)]
@@ -85,6 +85,12 @@ pub struct DesignArgs {
     /// defaults to the reference scene.
     #[arg(long)]
     options: Option<String>,
+    /// Fabrication limits and search windows as JSON, e.g.
+    /// `{"w_min_mm": 0.5}`; fields left out keep their defaults (h 10–30 mm,
+    /// w 1–3 mm, |Θ| ≤ 80°, windows X ±5 mm, Y ±5 mm, Θ ±30° around the
+    /// seed). The report names every patch that ends on one of these limits.
+    #[arg(long)]
+    bounds: Option<String>,
     /// Keep the balloon length from --options instead of choosing it so the
     /// inflated balloon is as long as the curve (the mismatch is reported).
     #[arg(long)]
@@ -155,6 +161,14 @@ pub fn run(args: DesignArgs) -> Result<()> {
     }
     if args.no_correction {
         request.correction_mesh = None;
+    }
+    if let Some(text) = &args.bounds {
+        request.bounds =
+            serde_json::from_str(text).map_err(|e| anyhow::anyhow!("--bounds: {e}"))?;
+        request
+            .bounds
+            .validate()
+            .map_err(|e| anyhow::anyhow!("--bounds: {e}"))?;
     }
     request.initial_step = args.initial_step;
     request.start = args.start;
@@ -289,6 +303,12 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
             refine.jacobians
         )),
         None => {}
+    }
+    for hit in &r.at_limits {
+        s.push_str(&format!(
+            "limit:        P{} {} {:.2} at {} {} (pinned: relax it with --bounds if the fabrication allows)\n",
+            hit.patch, hit.field, hit.value, hit.bound, hit.limit
+        ));
     }
     s.push_str(&patch_table(&r.design.patches, |_| ""));
     s.push_str(&format!(

@@ -6,6 +6,7 @@ mod correction;
 pub mod evaluation_cache;
 pub mod fidelity;
 mod incumbent;
+pub mod limits;
 pub mod objective;
 pub mod pipeline;
 mod polish;
@@ -14,6 +15,7 @@ pub mod report;
 pub mod variables;
 
 pub use fidelity::Fidelity;
+pub use limits::AtLimit;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use pipeline::{
     DesignCheckpoint, DesignHooks, DesignOutcome, DesignProgress, DesignRequest, DesignRunError,

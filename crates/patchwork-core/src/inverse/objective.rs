@@ -171,7 +171,7 @@ fn smoothed_profiles(
     let spacing = curve.length() / (curve.len() - 1) as f64;
     let sigma = (options.smooth_fraction * curve.length()).max(2.5 * spacing);
     let fine = curve.resample(resolution).unwrap_or_else(|_| curve.clone());
-    let fine = fine.smoothed(sigma).unwrap_or(fine);
+    let fine = fine.convolved(sigma).unwrap_or(fine);
     let analysis = analyse(&fine, &AnalysisOptions::default());
     let length = fine.length();
     let at = |values: &[f64], i: usize| {

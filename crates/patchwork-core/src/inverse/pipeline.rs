@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::evaluation_cache::simulate_cached;
 use super::incumbent::{Incumbent, Scorer, score};
+use super::limits::{AtLimit, at_limits};
 use super::objective::{ObjectiveOptions, SHAPE_SAMPLES, TargetProfiles};
 use super::polish::polish;
 use super::refine::{RefineProblem, RefineSummary};
@@ -245,6 +246,9 @@ pub struct DesignOutcome {
     pub termination: Termination,
     /// What the refine did; none when it did not run.
     pub refine: Option<RefineSummary>,
+    /// Patch sizes and angles on (or beyond) a fabrication limit of the
+    /// request's bounds: the target may want what the bounds forbid.
+    pub at_limits: Vec<AtLimit>,
     pub elapsed: Duration,
 }
 
@@ -567,6 +571,7 @@ pub fn design_resumable(
     }
     let (metrics, profiles) = verified(&profiles, &simulation, &request.objective);
     Ok(DesignOutcome {
+        at_limits: at_limits(&best.patches, &request.bounds),
         profiles,
         inflated_length_mm: simulation.inflated_length_mm,
         uninflated_length_to_cut_mm: best.balloon.length_mm,

@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::limits::AtLimit;
 use super::pipeline::{DesignOutcome, Metrics};
 use super::refine::RefineSummary;
 use crate::cmaes::Termination;
@@ -41,6 +42,9 @@ pub struct DesignReport {
     pub refine: Option<RefineSummary>,
     pub seed: u64,
     pub profiles: Profiles,
+    /// Patch sizes and angles on (or beyond) a fabrication limit.
+    #[serde(default)]
+    pub at_limits: Vec<AtLimit>,
 }
 
 impl DesignReport {
@@ -67,6 +71,7 @@ impl DesignReport {
             refine: outcome.refine,
             seed,
             profiles: outcome.profiles.clone(),
+            at_limits: outcome.at_limits.clone(),
         }
     }
 }

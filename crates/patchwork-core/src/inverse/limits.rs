@@ -1,0 +1,130 @@
+//! Patches of a finished design that sit on a fabrication limit.
+//!
+//! A design pinned at a limit says the target wants what the bounds forbid:
+//! a gentle arc, for one, bends less than the narrowest allowed patch makes
+//! it bend (on the reference balloon a full-length 1 mm patch gives
+//! κ ≈ 0.020 mm⁻¹; a 60 mm radius needs 0.017, about a 0.85 mm patch), so
+//! the design ends at `w_min_mm` with a shape error well above what the
+//! model can do. The report lists such patches so that the user knows why,
+//! and which bound to relax if the fabrication allows it.
+
+use serde::{Deserialize, Serialize};
+
+use super::variables::VariableBounds;
+use crate::design::Patch;
+
+/// A value counts as on its limit within this fraction of its range
+/// (0.01 mm of the default 1–3 mm widths).
+const ON_LIMIT: f64 = 5e-3;
+
+/// One patch value on (or beyond) a fabrication limit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AtLimit {
+    /// Patch number as in the tables: 1 for P1.
+    pub patch: usize,
+    /// The patch's field: `h_mm`, `w_mm` or `theta_deg`.
+    pub field: String,
+    pub value: f64,
+    /// The limit it sits on: `bounds.h_min_mm`, …, `bounds.theta_limit_deg`.
+    pub bound: String,
+    pub limit: f64,
+}
+
+/// Every size or angle of `patches` within `ON_LIMIT` of its range's end,
+/// or beyond it, in patch order.
+pub fn at_limits(patches: &[Patch], bounds: &VariableBounds) -> Vec<AtLimit> {
+    let theta = bounds.theta_limit_deg;
+    let ranges = [
+        (
+            "h_mm",
+            "h_min_mm",
+            "h_max_mm",
+            bounds.h_min_mm,
+            bounds.h_max_mm,
+        ),
+        (
+            "w_mm",
+            "w_min_mm",
+            "w_max_mm",
+            bounds.w_min_mm,
+            bounds.w_max_mm,
+        ),
+        (
+            "theta_deg",
+            "theta_limit_deg",
+            "theta_limit_deg",
+            -theta,
+            theta,
+        ),
+    ];
+    let mut found = Vec::new();
+    for (index, patch) in patches.iter().enumerate() {
+        let values = [patch.h_mm, patch.w_mm, patch.theta_deg];
+        for ((field, low_name, high_name, low, high), value) in ranges.iter().zip(values) {
+            let tolerance = ON_LIMIT * (high - low).abs();
+            let hit = if value <= low + tolerance {
+                Some((low_name, *low))
+            } else if value >= high - tolerance {
+                Some((high_name, *high))
+            } else {
+                None
+            };
+            if let Some((name, limit)) = hit {
+                found.push(AtLimit {
+                    patch: index + 1,
+                    field: field.to_string(),
+                    value,
+                    bound: format!("bounds.{name}"),
+                    limit,
+                });
+            }
+        }
+    }
+    found
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn patch(h_mm: f64, w_mm: f64, theta_deg: f64) -> Patch {
+        Patch {
+            x_mm: 0.0,
+            y_mm: 50.0,
+            h_mm,
+            w_mm,
+            theta_deg,
+        }
+    }
+
+    #[test]
+    fn finds_values_on_and_beyond_the_limits_and_nothing_inside() {
+        let bounds = VariableBounds::default();
+        assert!(at_limits(&[patch(20.0, 2.0, 10.0)], &bounds).is_empty());
+        let found = at_limits(
+            &[
+                patch(20.0, 1.004, 0.0),
+                patch(31.0, 2.0, -79.9),
+                patch(10.0, 3.0, 80.0),
+            ],
+            &bounds,
+        );
+        let summary: Vec<(usize, &str, &str)> = found
+            .iter()
+            .map(|a| (a.patch, a.field.as_str(), a.bound.as_str()))
+            .collect();
+        assert_eq!(
+            summary,
+            [
+                (1, "w_mm", "bounds.w_min_mm"),
+                (2, "h_mm", "bounds.h_max_mm"),
+                (2, "theta_deg", "bounds.theta_limit_deg"),
+                (3, "h_mm", "bounds.h_min_mm"),
+                (3, "w_mm", "bounds.w_max_mm"),
+                (3, "theta_deg", "bounds.theta_limit_deg"),
+            ]
+        );
+        assert_eq!(found[0].limit, 1.0);
+        assert_eq!(found[2].limit, -80.0);
+    }
+}
