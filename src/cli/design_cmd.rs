@@ -305,8 +305,13 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         None => {}
     }
     for hit in &r.at_limits {
+        let note = if hit.beyond {
+            "beyond: the range was widened to hold KSA's seed"
+        } else {
+            "pinned: relax it with --bounds if the fabrication allows"
+        };
         s.push_str(&format!(
-            "limit:        P{} {} {:.2} at {} {} (pinned: relax it with --bounds if the fabrication allows)\n",
+            "limit:        P{} {} {:.2} at {} {} ({note})\n",
             hit.patch, hit.field, hit.value, hit.bound, hit.limit
         ));
     }

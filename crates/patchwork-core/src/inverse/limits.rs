@@ -28,6 +28,9 @@ pub struct AtLimit {
     /// The limit it sits on: `bounds.h_min_mm`, …, `bounds.theta_limit_deg`.
     pub bound: String,
     pub limit: f64,
+    /// Past the limit, not on it: the search widens a range to hold a seed
+    /// outside it (KSA's patch lengths are not bounded).
+    pub beyond: bool,
 }
 
 /// Every size or angle of `patches` within `ON_LIMIT` of its range's end,
@@ -76,6 +79,7 @@ pub fn at_limits(patches: &[Patch], bounds: &VariableBounds) -> Vec<AtLimit> {
                     value,
                     bound: format!("bounds.{name}"),
                     limit,
+                    beyond: value < low - tolerance || value > high + tolerance,
                 });
             }
         }
@@ -126,5 +130,7 @@ mod tests {
         );
         assert_eq!(found[0].limit, 1.0);
         assert_eq!(found[2].limit, -80.0);
+        let beyond: Vec<bool> = found.iter().map(|a| a.beyond).collect();
+        assert_eq!(beyond, [false, true, false, false, false, false]);
     }
 }
