@@ -92,8 +92,8 @@ impl Fidelity {
     /// (`correction.rs`): graded 0.5 mm (fine under patches and at the ends,
     /// 4 mm bare stretches), for draft and standard; fine refines on its
     /// uniform 0.5 mm model itself. On the Hilbert curve the correction
-    /// takes draft from 0.43 % to 0.23 % on the uniform 0.5 mm model for
-    /// three finer solves (BENCHMARKS.md).
+    /// takes draft from 0.70 % to 0.15 % on the uniform 0.5 mm model for
+    /// three finer solves (medians of three, BENCHMARKS.md).
     pub fn correction_mesh(self) -> Option<MeshSpec> {
         match self {
             Fidelity::Draft | Fidelity::Standard => Some(MeshSpec::graded(0.5, 4.0)),
