@@ -187,9 +187,10 @@ fn refine_takes_a_round_trip_to_its_solution() {
 /// refine's solves run on the 1 mm one. Uncorrected, the refine fits the
 /// 1 mm model's shape, and the design carries that model's error onto the
 /// 0.5 mm model; corrected by the 0.5 mm model's residuals (three 0.5 mm
-/// solves), it fits the 0.5 mm model's shape. Measured: 0.22 % uncorrected,
-/// 0.0080 % corrected (25 steps from 3 Jacobians in 56 solves; 0.040 % when
-/// every step took a fresh Jacobian), the width found to 2.51 for 2.5. (Corrected by a
+/// solves), it fits the 0.5 mm model's shape. Measured: 0.20 % uncorrected,
+/// 0.021 % corrected (25 steps from 3 Jacobians in 59 solves; 0.040 % when
+/// every step took a fresh Jacobian), the width found to 2.51 for 2.5.
+/// (Corrected by a
 /// 1 mm model, a 2 mm refine overshoots: the two models' responses to the
 /// patch differ too much for a first-order correction, and the rounds stop
 /// at the start.)

@@ -92,7 +92,9 @@ pub(super) struct Refined {
     pub simulation: Simulation,
     pub summary: Option<RefineSummary>,
     /// The last Jacobian (Broyden-updated to the last trial), for a refine
-    /// that goes on from here.
+    /// that goes on from here: per unit of each variable (mm, degrees, mm
+    /// of balloon length), since the next refine's unit cube is centred on
+    /// its own start and may span other ranges.
     pub jacobian: Option<DMatrix<f64>>,
 }
 
@@ -246,7 +248,8 @@ impl RefineProblem<'_> {
     /// evaluations, simulation)` hears every Jacobian and every accepted
     /// step. `jacobian`, if given (and of the right size), is used as the
     /// first Jacobian instead of forward differences: a previous refine's
-    /// last one, from a nearby design.
+    /// last one ([`Refined::jacobian`], per unit of each variable), from a
+    /// nearby design.
     pub fn refine(
         &self,
         start: Design,
@@ -283,11 +286,21 @@ impl RefineProblem<'_> {
         let mut damping = FIRST_DAMPING;
         let mut iteration = 0;
         let mut jacobians = 0;
+        // Unit-cube coordinate j spans `ranges[j]` units of its variable.
+        let mut ranges: Vec<f64> = space.free.iter().map(|&(_, _, lo, hi)| hi - lo).collect();
+        if self.free_length {
+            ranges.push(2.0 * LENGTH_WINDOW * start.balloon.length_mm);
+        }
         let mut jacobian = jacobian
             .filter(|j| j.ncols() == n && j.nrows() == current.residuals.len())
-            .map(|matrix| Jacobian {
-                matrix,
-                fresh: false,
+            .map(|mut matrix| {
+                for (j, range) in ranges.iter().enumerate() {
+                    matrix.column_mut(j).scale_mut(*range);
+                }
+                Jacobian {
+                    matrix,
+                    fresh: false,
+                }
             });
         // Forward differences are due at the start unless a Jacobian was
         // handed in, and again whenever the secant one fails.
@@ -388,7 +401,13 @@ impl RefineProblem<'_> {
                 correction_solves: 0,
             }),
             simulation: current.simulation,
-            jacobian: jacobian.map(|j| j.matrix),
+            jacobian: jacobian.map(|j| {
+                let mut matrix = j.matrix;
+                for (j, range) in ranges.iter().enumerate() {
+                    matrix.column_mut(j).unscale_mut(*range);
+                }
+                matrix
+            }),
         })
     }
 
