@@ -492,28 +492,16 @@ fn design_rejects_bad_options_in_one_line() {
         "--fidelity",
     );
     assert_one_line_error(&patchwork(&["bench", "--quick", "--runs", "0"]), "--runs");
-    assert_one_line_error(
-        &patchwork(&[
-            "design",
-            hilbert,
-            "--out",
-            "/tmp/x",
-            "--bounds",
-            r#"{"w_min_mm": 5}"#,
-        ]),
-        "w_min_mm",
-    );
-    assert_one_line_error(
-        &patchwork(&[
-            "design",
-            hilbert,
-            "--out",
-            "/tmp/x",
-            "--bounds",
-            r#"{"w_mni_mm": 0.5}"#,
-        ]),
-        "--bounds",
-    );
+    // An impossible bound names its field; an unknown one the option.
+    for (bounds, needle) in [
+        (r#"{"w_min_mm": 5}"#, "w_min_mm"),
+        (r#"{"w_mni_mm": 0.5}"#, "--bounds"),
+    ] {
+        assert_one_line_error(
+            &patchwork(&["design", hilbert, "--out", "/tmp/x", "--bounds", bounds]),
+            needle,
+        );
+    }
     assert_one_line_error(
         &patchwork_with_stdin(
             &["design", hilbert, "--out", "/tmp/x", "--options", "-"],

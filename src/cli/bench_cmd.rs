@@ -15,8 +15,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use patchwork_core::cmaes::SeededRng;
-use patchwork_core::curve::{Curve, Point, Preset};
+use patchwork_core::curve::{Curve, Preset};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::inverse::{DesignRequest, Fidelity, assess, design};
 
@@ -199,14 +198,9 @@ fn noisy_arc() -> Result<Curve> {
     )
     .map_err(anyhow::Error::msg)?
     .curve(Some(300))?;
-    let mut rng = SeededRng::new(7);
-    let scale = 0.01 * arc.length();
-    let noisy: Vec<Point> = arc
-        .points()
-        .iter()
-        .map(|p| p + Point::new(rng.normal(), rng.normal(), rng.normal()) * scale)
-        .collect();
-    Ok(Curve::from_points(noisy)?.smoothed(10.0 * arc.length() / 300.0)?)
+    Ok(arc
+        .with_noise(0.01, 7)?
+        .smoothed(10.0 * arc.length() / 300.0)?)
 }
 
 fn median(mut values: Vec<f64>) -> f64 {

@@ -149,14 +149,7 @@ fn smoothing_holds_when_the_noise_exceeds_the_point_spacing() {
     .unwrap()
     .curve(Some(300))
     .unwrap();
-    let mut rng = patchwork_core::cmaes::SeededRng::new(7);
-    let scale = 0.01 * arc.length();
-    let noisy: Vec<Point> = arc
-        .points()
-        .iter()
-        .map(|p| p + Point::new(rng.normal(), rng.normal(), rng.normal()) * scale)
-        .collect();
-    let noisy = Curve::from_points(noisy).unwrap();
+    let noisy = arc.with_noise(0.01, 7).unwrap();
     assert!(noisy.length() > 5.0 * arc.length(), "{}", noisy.length());
     let smoothed = noisy.smoothed(10.0 * arc.length() / 300.0).unwrap();
     let kappa = 1.0 / 60.0;

@@ -86,7 +86,20 @@ fn oblique_patch_round_trip(budget: usize, refine: usize) -> (Patch, Curve, Desi
         w_mm: 2.5,
         theta_deg: 15.0,
     };
-    let (base, target) = one_patch_target(120.0, truth);
+    let (target, request) = patch_round_trip(truth, 120.0, budget, refine);
+    (truth, target, request)
+}
+
+/// The centreline of `truth` on a balloon of `length_mm` (2 mm model) and a
+/// request to design it again: the length fixed, search and verification on
+/// the 2 mm model, `budget` search evaluations, `refine` refine solves.
+fn patch_round_trip(
+    truth: Patch,
+    length_mm: f64,
+    budget: usize,
+    refine: usize,
+) -> (Curve, DesignRequest) {
+    let (base, target) = one_patch_target(length_mm, truth);
     let request = DesignRequest {
         base,
         fix_length: true,
@@ -96,7 +109,7 @@ fn oblique_patch_round_trip(budget: usize, refine: usize) -> (Patch, Curve, Desi
         verify_mesh: MeshSpec::uniform(2.0),
         ..DesignRequest::default()
     };
-    (truth, target, request)
+    (target, request)
 }
 
 #[test]
@@ -469,16 +482,7 @@ fn a_design_pinned_on_a_limit_says_so() {
         w_mm: 0.7,
         theta_deg: 0.0,
     };
-    let (base, target) = one_patch_target(80.0, truth);
-    let request = DesignRequest {
-        base,
-        fix_length: true,
-        budget: 60,
-        refine_budget: 40,
-        threads: 2,
-        verify_mesh: MeshSpec::uniform(2.0),
-        ..DesignRequest::default()
-    };
+    let (target, request) = patch_round_trip(truth, 80.0, 60, 40);
     let relaxed = DesignRequest {
         bounds: patchwork_core::inverse::VariableBounds {
             w_min_mm: 0.5,

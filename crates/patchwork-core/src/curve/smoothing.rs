@@ -1,6 +1,8 @@
 //! Gaussian smoothing along arc length, for noisy hand-drawn or digitised curves.
 
+use super::polyline::cumulative_length;
 use super::{Curve, CurveError, Point};
+use crate::cmaes::SeededRng;
 
 impl Curve {
     /// Convolves the points with a Gaussian of standard deviation `sigma_mm` in
@@ -39,6 +41,21 @@ impl Curve {
         self.smoothed_along(sigma_mm, 0)
     }
 
+    /// The curve with seeded Gaussian noise, of standard deviation
+    /// `fraction` of its length, added to every coordinate of every point:
+    /// the jitter smoothing is for, reproducibly (the bench's
+    /// hand-drawn-style arc and the smoothing tests use it).
+    pub fn with_noise(&self, fraction: f64, seed: u64) -> Result<Curve, CurveError> {
+        let mut rng = SeededRng::new(seed);
+        let scale = fraction * self.length();
+        Curve::from_points(
+            self.points()
+                .iter()
+                .map(|p| p + Point::new(rng.normal(), rng.normal(), rng.normal()) * scale)
+                .collect(),
+        )
+    }
+
     fn smoothed_along(&self, sigma_mm: f64, repeats: usize) -> Result<Curve, CurveError> {
         if !(sigma_mm.is_finite() && sigma_mm >= 0.0) {
             return Err(CurveError::InvalidSmoothing(sigma_mm));
@@ -73,17 +90,6 @@ const MAX_REPARAMETRISATIONS: usize = 50;
 /// The largest change of any point's arc length, as a fraction of the
 /// length, at which the parametrisation counts as settled.
 const REPARAMETRISATION_TOLERANCE: f64 = 1e-3;
-
-fn cumulative_length(points: &[Point]) -> Vec<f64> {
-    let mut s = Vec::with_capacity(points.len());
-    let mut total = 0.0;
-    s.push(0.0);
-    for pair in points.windows(2) {
-        total += (pair[1] - pair[0]).norm();
-        s.push(total);
-    }
-    s
-}
 
 /// The Gaussian convolution of `p`, parametrised by `s`, with the ends
 /// extended by point reflection.
