@@ -12,7 +12,7 @@ use patchwork_core::fabrication::design_files;
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::inverse::{
     DesignCheckpoint, DesignHooks, DesignProgress, DesignReport, DesignRequest, Fidelity,
-    INITIAL_STEP, ObjectiveOptions, Stage, Start, design_resumable,
+    INITIAL_STEP, ObjectiveOptions, RefineSummary, Stage, Start, design_resumable,
 };
 
 use super::input::{CurveInput, read_text_argument};
@@ -47,16 +47,18 @@ pub struct DesignArgs {
     #[arg(long)]
     polish: Option<usize>,
     /// Solves of the refine: Levenberg–Marquardt on the shape error on the
-    /// verification model, the run's last stage (default: the fidelity's,
-    /// 60/120/240 for draft/standard/fine; 0 turns it off).
+    /// verification model (default: the fidelity's, 60/120/240 for
+    /// draft/standard/fine; 0 turns it off). Fine spends the first 60 as
+    /// draft does and the rest on its final refine on the uniform 0.5 mm mesh.
     /// A forward-difference Jacobian costs one solve per free variable, a
     /// trial step one (steps between Jacobians use Broyden updates).
     #[arg(long)]
     refine: Option<usize>,
     /// Refine on the verification model without the finer model's
-    /// correction, and verify there (draft and standard correct the refine
-    /// by a graded 0.5 mm model and verify on it: on the Hilbert curve
-    /// 0.70 % → 0.15 % shape error for three finer solves).
+    /// correction, and verify there (every preset corrects the refine by a
+    /// graded 0.5 mm model and verifies on it: on the Hilbert curve
+    /// 0.70 % → 0.15 % shape error for three finer solves; fine then
+    /// refines on the uniform 0.5 mm mesh all the same).
     #[arg(long)]
     no_correction: bool,
     /// Weight of the shape error (aligned RMS distance / curve length) added
@@ -97,14 +99,14 @@ pub struct DesignArgs {
     fix_length: bool,
     /// Model fidelity: draft (search on 3 mm rings, refine on 1 mm
     /// corrected by 0.5 mm, verify on 0.5 mm), standard (search on 2 mm,
-    /// then as draft) or fine (draft's search, then the refine on a uniform
-    /// 0.5 mm mesh, which is also the verification); graded meshes are fine
-    /// under patches, coarse along bare stretches.
+    /// then as draft) or fine (draft's run, then a final refine on a
+    /// uniform 0.5 mm mesh, which is also the verification); graded meshes
+    /// are fine under patches, coarse along bare stretches.
     #[arg(long, default_value = "standard")]
     fidelity: Fidelity,
     /// Element size of the search model (mm), overriding the fidelity's with
     /// uniform meshes; the refine and verification then use half of it,
-    /// uncorrected.
+    /// uncorrected (and fine's final refine is dropped).
     #[arg(long)]
     mesh_mm: Option<f64>,
     /// Write the run's state here after every generation; if the file exists,
@@ -190,6 +192,7 @@ pub fn run(args: DesignArgs) -> Result<()> {
         request.search_mesh = MeshSpec::uniform(mesh_mm);
         request.verify_mesh = MeshSpec::uniform(mesh_mm / 2.0);
         request.correction_mesh = None;
+        request.final_refine = None;
     }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
@@ -288,22 +291,8 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         r.elapsed_s,
         r.termination
     );
-    match &r.refine {
-        Some(refine) if refine.solves == 0 => s.push_str(&format!(
-            "refine:       none: one step needs {} solves (--refine)\n",
-            refine.variables + 1
-        )),
-        Some(refine) => s.push_str(&format!(
-            "refine:       shape error {:.2} % → {:.2} % in {} steps ({} solves, {} of them for {} Jacobians)\n",
-            refine.shape_error_before_percent,
-            refine.shape_error_after_percent,
-            refine.iterations,
-            refine.solves,
-            refine.jacobians * refine.variables,
-            refine.jacobians
-        )),
-        None => {}
-    }
+    s.push_str(&refine_line("refine:      ", r.refine.as_ref()));
+    s.push_str(&refine_line("final refine:", r.final_refine.as_ref()));
     for hit in &r.at_limits {
         let note = if hit.beyond {
             "beyond: the range was widened to hold KSA's seed"
@@ -321,4 +310,24 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         dir.display()
     ));
     s
+}
+
+/// One line on a refine stage (empty when it did not run).
+fn refine_line(label: &str, refine: Option<&RefineSummary>) -> String {
+    match refine {
+        Some(refine) if refine.solves == 0 => format!(
+            "{label} none: one step needs {} solves (--refine)\n",
+            refine.variables + 1
+        ),
+        Some(refine) => format!(
+            "{label} shape error {:.2} % → {:.2} % in {} steps ({} solves, {} of them for {} Jacobians)\n",
+            refine.shape_error_before_percent,
+            refine.shape_error_after_percent,
+            refine.iterations,
+            refine.solves,
+            refine.jacobians * refine.variables,
+            refine.jacobians
+        ),
+        None => String::new(),
+    }
 }

@@ -52,13 +52,14 @@ pub struct JobOptions {
     /// model (default: the fidelity's, 0 in every preset).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub polish: Option<usize>,
-    /// Solves of the Levenberg–Marquardt refine on the shape error, the
-    /// run's last stage (default: the fidelity's).
+    /// Solves of the Levenberg–Marquardt refine on the shape error
+    /// (default: the fidelity's; fine spends all but draft's 60 on its
+    /// final refine on the uniform 0.5 mm mesh).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refine: Option<usize>,
     /// Correct the refine by the fidelity's finer model and verify on it
-    /// (default true; `fine` refines on its finest model, so there it changes
-    /// nothing); false refines and verifies on the verification model.
+    /// (default true); false refines and verifies on the verification model
+    /// (`fine`'s final refine on its uniform 0.5 mm mesh runs either way).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub correction: Option<bool>,
     /// CMA-ES's initial step as a fraction of each variable's range.

@@ -9,8 +9,11 @@
 //! (the preset the others modify), `budget=N` (search evaluations; default
 //! the preset's), `refine=N` (refine solves; default the preset's),
 //! `correction=none|preset|MM|MM/MM` (the uniform or graded mesh whose
-//! centreline corrects the refine's model; default the preset's), `seeds=3`, `progress=1` (print
-//! every stage and generation).
+//! centreline corrects the refine's model; default the preset's),
+//! `refine_mesh=search|MM|MM/MM` (the model the refine solves on: the search's
+//! own, or a uniform or graded mesh; default the preset's verification
+//! model), `patience=N` (the search's), `seeds=3`, `progress=1` (print every
+//! stage and generation).
 
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -19,12 +22,23 @@ use patchwork_core::curve::ReferenceCurve;
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::inverse::{DesignProgress, DesignRequest, Fidelity, assess, design};
 
+/// `MM` (uniform) or `MM/MM` (graded: under patches / bare stretches).
+fn mesh(value: &str) -> MeshSpec {
+    let number = |v: &str| v.parse::<f64>().expect("a number");
+    match value.split_once('/') {
+        Some((fine, straight)) => MeshSpec::graded(number(fine), number(straight)),
+        None => MeshSpec::uniform(number(value)),
+    }
+}
+
 fn main() {
     let mut curve = ReferenceCurve::Hilbert;
     let mut fidelity = Fidelity::Draft;
     let mut budget = None;
     let mut refine = None;
     let mut correction: Option<Option<MeshSpec>> = None;
+    let mut refine_mesh: Option<Option<MeshSpec>> = None;
+    let mut patience = None;
     let mut seeds = 3;
     let mut progress = false;
     for arg in std::env::args().skip(1) {
@@ -44,15 +58,10 @@ fn main() {
             "refine" => refine = Some(number() as usize),
             "correction" if value == "none" => correction = Some(None),
             "correction" if value == "preset" => correction = None,
-            "correction" => {
-                correction = Some(Some(match value.split_once('/') {
-                    Some((fine, straight)) => MeshSpec::graded(
-                        fine.parse().expect("a number"),
-                        straight.parse().expect("a number"),
-                    ),
-                    None => MeshSpec::uniform(number()),
-                }))
-            }
+            "correction" => correction = Some(Some(mesh(value))),
+            "refine_mesh" if value == "search" => refine_mesh = Some(None),
+            "refine_mesh" => refine_mesh = Some(Some(mesh(value))),
+            "patience" => patience = Some(number() as usize),
             "seeds" => seeds = number() as u64,
             "progress" => progress = value == "1",
             _ => panic!("unknown setting {key}"),
@@ -75,6 +84,12 @@ fn main() {
         fidelity.apply(&mut request);
         if let Some(refine) = refine {
             request.refine_budget = refine;
+        }
+        if let Some(mesh) = refine_mesh {
+            request.verify_mesh = mesh.unwrap_or(request.search_mesh);
+        }
+        if let Some(patience) = patience {
+            request.search_patience = patience;
         }
         if let Some(correction) = correction {
             request.correction_mesh = correction;

@@ -14,7 +14,7 @@ use patchwork_core::cmaes::Termination;
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::{SimulateOptions, simulate};
-use patchwork_core::inverse::{DesignRequest, Stage, assess, design};
+use patchwork_core::inverse::{DesignRequest, FinalRefine, Stage, assess, design};
 
 /// A reference-scene balloon of `length_mm`, and the inflated centreline of
 /// it carrying `patch` (2 mm model): a target with a known solution.
@@ -257,6 +257,60 @@ fn a_finer_model_corrects_the_refine() {
         "corrected {} %, uncorrected {plain_on_finer} %",
         corrected.metrics.shape_error_percent
     );
+}
+
+/// Fine's last stage: a refine on the 2 mm model (at most its staging
+/// solves) and then a final refine on the 1 mm model the target was drawn
+/// on, from the first one's result and Jacobian. The final refine can only
+/// lower the shape error on its own model, where the design is verified,
+/// and it spends what the refine budget has left.
+#[test]
+fn a_final_refine_goes_on_on_the_finest_model() {
+    let truth = Patch {
+        x_mm: 0.0,
+        y_mm: 60.0,
+        h_mm: 20.0,
+        w_mm: 2.5,
+        theta_deg: 15.0,
+    };
+    let finest = MeshSpec::uniform(1.0);
+    let (base, target) = one_patch_target_on(120.0, truth, finest);
+    let request = DesignRequest {
+        base,
+        fix_length: true,
+        budget: 100,
+        refine_budget: 60,
+        threads: 2,
+        verify_mesh: MeshSpec::uniform(2.0),
+        final_refine: Some(FinalRefine {
+            mesh: finest,
+            staging_solves: 25,
+        }),
+        ..DesignRequest::default()
+    };
+    let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    let staged = outcome.refine.expect("the refine ran");
+    let last = outcome.final_refine.expect("the final refine ran");
+    println!(
+        "staged {staged:?}\nfinal {last:?}\nfound {:?}",
+        outcome.design.patches[0]
+    );
+    assert!(staged.solves <= 25, "{staged:?}");
+    assert!(staged.solves + last.solves <= 60, "{last:?}");
+    assert!(last.iterations > 0, "{last:?}");
+    // Verified on the finest model: the final refine's own result.
+    assert!((last.shape_error_after_percent - outcome.metrics.shape_error_percent).abs() < 1e-9);
+    let on_finest = assess(&target, &outcome.design, finest, &request)
+        .unwrap()
+        .shape_error_percent;
+    assert!((on_finest - outcome.metrics.shape_error_percent).abs() < 1e-6);
+    // It began at the staged result on the finest model (0.92 % when this
+    // was written) and ends at 0.069 % (its budget spent).
+    assert!(
+        last.shape_error_after_percent < 0.2 * last.shape_error_before_percent,
+        "{last:?}"
+    );
+    assert!(outcome.metrics.shape_error_percent < 0.1, "{last:?}");
 }
 
 /// With a patience of one evaluation, the first generation that does not

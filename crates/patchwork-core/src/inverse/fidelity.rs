@@ -6,7 +6,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use super::pipeline::DesignRequest;
+use super::pipeline::{DesignRequest, FinalRefine};
 use crate::fe::mesh::MeshSpec;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -18,11 +18,14 @@ pub enum Fidelity {
     /// Search on 2 mm elements (600 evaluations), then as draft.
     #[default]
     Standard,
-    /// Draft's search, then the refine on a uniform 0.5 mm mesh, which is
-    /// also the verification. (It used to search 1 200 evaluations on the
-    /// graded 1 mm model: over two hours for the Hilbert curve here, and 351
-    /// evaluations did not beat the KSA seed once; then a CMA-ES polish of
-    /// 120 on the 0.5 mm mesh, 14 minutes, which bought nothing there.)
+    /// Draft's run (search, corrected refine of 60 solves), then a final
+    /// refine on the uniform 0.5 mm mesh with the rest of its 240 solves,
+    /// which also verifies. (Until the twelfth session fine refined on the
+    /// uniform mesh straight from the search's design: its refine stopped
+    /// at a local minimum on the pancake and the spring, 0.70 and 1.69 %
+    /// where draft reached 0.65 and 1.24 %. Before that it searched 1 200
+    /// evaluations on the graded 1 mm model: over two hours for the Hilbert
+    /// curve here.)
     Fine,
 }
 
@@ -30,12 +33,13 @@ impl Fidelity {
     pub const NAMES: [&'static str; 3] = ["draft", "standard", "fine"];
 
     /// Meshes of the search and the verification model for a balloon of
-    /// radius `radius_mm`. All but fine's verification are graded (fine under
-    /// patches and at the ends, coarse along bare stretches: no loss of
-    /// accuracy there, most of a sparse balloon's unknowns saved). The search
+    /// radius `radius_mm` (fine's final refine has its own, uniform 0.5 mm).
+    /// All are graded (fine under patches and at the ends, coarse along bare
+    /// stretches: no loss of accuracy there, most of a sparse balloon's
+    /// unknowns saved). The search
     /// meshes keep the 2 mm cross-section (10 sides on the reference balloon):
     /// a 1 mm section is more accurate but makes each factorisation about 5×
-    /// dearer, which no search can afford (fine's refine pays it).
+    /// dearer, which no search can afford (fine's final refine pays it).
     pub fn meshes(self, radius_mm: f64) -> (MeshSpec, MeshSpec) {
         let draft_search = MeshSpec {
             element_mm: 3.0,
@@ -43,9 +47,8 @@ impl Fidelity {
             straight_mm: Some(6.0),
         };
         match self {
-            Fidelity::Draft => (draft_search, MeshSpec::graded(1.0, 4.0)),
+            Fidelity::Draft | Fidelity::Fine => (draft_search, MeshSpec::graded(1.0, 4.0)),
             Fidelity::Standard => (MeshSpec::graded(2.0, 6.0), MeshSpec::graded(1.0, 4.0)),
-            Fidelity::Fine => (draft_search, MeshSpec::uniform(0.5)),
         }
     }
 
@@ -78,8 +81,9 @@ impl Fidelity {
     /// takes 60: one Jacobian and about 25 steps. On single runs, 120
     /// bought 0.155 → 0.146 % on the Hilbert curve, nothing on the pancake
     /// (0.646 / 0.652 %) and the spring (1.229 / 1.227 %), for 20–35 % more
-    /// time. Fine's model is the uniform 0.5 mm mesh, where each solve costs
-    /// several times more and the shape error can go further down.
+    /// time. Fine spends 60 as draft does and the rest on the uniform 0.5 mm
+    /// mesh, where each solve costs several times more and the shape error
+    /// can go further down.
     pub fn refine_budget(self) -> usize {
         match self {
             Fidelity::Draft => 60,
@@ -90,14 +94,27 @@ impl Fidelity {
 
     /// The finer model that corrects the refine and verifies its result
     /// (`correction.rs`): graded 0.5 mm (fine under patches and at the ends,
-    /// 4 mm bare stretches), for draft and standard; fine refines on its
-    /// uniform 0.5 mm model itself. On the Hilbert curve the correction
+    /// 4 mm bare stretches), in every preset. On the Hilbert curve the correction
     /// takes draft from 0.70 % to 0.15 % on the uniform 0.5 mm model for
     /// three finer solves (medians of three, BENCHMARKS.md).
     pub fn correction_mesh(self) -> Option<MeshSpec> {
         match self {
-            Fidelity::Draft | Fidelity::Standard => Some(MeshSpec::graded(0.5, 4.0)),
-            Fidelity::Fine => None,
+            Fidelity::Draft | Fidelity::Standard | Fidelity::Fine => {
+                Some(MeshSpec::graded(0.5, 4.0))
+            }
+        }
+    }
+
+    /// Fine's last stage: after draft's corrected refine (its first 60
+    /// solves), the refine on the uniform 0.5 mm mesh with the rest of the
+    /// budget, from draft's result and its Jacobian.
+    pub fn final_refine(self) -> Option<FinalRefine> {
+        match self {
+            Fidelity::Fine => Some(FinalRefine {
+                mesh: MeshSpec::uniform(0.5),
+                staging_solves: Fidelity::Draft.refine_budget(),
+            }),
+            Fidelity::Draft | Fidelity::Standard => None,
         }
     }
 
@@ -113,6 +130,7 @@ impl Fidelity {
         request.refine_budget = self.refine_budget();
         request.search_patience = self.search_patience();
         request.correction_mesh = self.correction_mesh();
+        request.final_refine = self.final_refine();
     }
 }
 

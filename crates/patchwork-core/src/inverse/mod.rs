@@ -19,7 +19,7 @@ pub use limits::AtLimit;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use pipeline::{
     DesignCheckpoint, DesignHooks, DesignOutcome, DesignProgress, DesignRequest, DesignRunError,
-    INITIAL_STEP, Metrics, Stage, Start, assess, design, design_resumable,
+    FinalRefine, INITIAL_STEP, Metrics, Stage, Start, assess, design, design_resumable,
 };
 pub use refine::RefineSummary;
 pub use report::DesignReport;

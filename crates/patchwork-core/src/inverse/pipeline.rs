@@ -19,7 +19,7 @@ use crate::curve::{Curve, dtw, shape_error};
 use crate::design::{Design, DesignError, Patch};
 use crate::fe::mesh::MeshSpec;
 use crate::fe::tube_theory::inflate_tube;
-use crate::fe::{SimulateError, SimulateOptions, Simulation};
+use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate_from};
 use crate::ksa::{KsaError, KsaParams, Stretch, ksa};
 
 /// Objective value given to a candidate whose forward solve failed: worse than
@@ -81,11 +81,25 @@ pub struct DesignRequest {
     /// model, and each correction round costs one solve of this one. None:
     /// the refine and the verification are the verification model's.
     pub correction_mesh: Option<MeshSpec>,
+    /// A last refine on a finer model still, from the refine's result (and
+    /// its Jacobian), on which the design is then verified: `fine`'s uniform
+    /// 0.5 mm stage. It spends what `refine_budget` has left after the
+    /// refine on the verification model. None: the refine's result stands.
+    pub final_refine: Option<FinalRefine>,
     /// CMA-ES's initial step σ₀ in the unit cube of the free variables (each
     /// variable's range maps to [0, 1]).
     pub initial_step: f64,
     /// Where CMA-ES starts: from KSA's patches (the method), or unseeded.
     pub start: Start,
+}
+
+/// The final refine: Levenberg–Marquardt on the shape error on `mesh`, from
+/// the result of the refine on the verification model, which may spend at
+/// most `staging_solves` of the refine budget (the final one the rest).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FinalRefine {
+    pub mesh: MeshSpec,
+    pub staging_solves: usize,
 }
 
 /// Where the search starts.
@@ -138,6 +152,7 @@ impl Default for DesignRequest {
             polish_budget: 0,
             refine_budget: 0,
             correction_mesh: None,
+            final_refine: None,
             initial_step: INITIAL_STEP,
             start: Start::Ksa,
         }
@@ -246,6 +261,9 @@ pub struct DesignOutcome {
     pub termination: Termination,
     /// What the refine did; none when it did not run.
     pub refine: Option<RefineSummary>,
+    /// What the final refine on the finest model did (`fine`); none when
+    /// the request has none.
+    pub final_refine: Option<RefineSummary>,
     /// Patch sizes and angles on (or beyond) a fabrication limit of the
     /// request's bounds: the target may want what the bounds forbid.
     pub at_limits: Vec<AtLimit>,
@@ -517,30 +535,37 @@ pub fn design_resumable(
         stretch_balloon(&mut best, ratio);
         simulation = simulate_cached(&best, &verify).map_err(DesignRunError::Verify)?;
     }
+    let problem = RefineProblem {
+        model: &verify,
+        target: &profiles,
+        freedom: request.freedom,
+        bounds: &bounds,
+        free_length: !request.fix_length,
+        correction: None,
+        threads: request.threads,
+        cancel,
+    };
+    let spent = state.evaluations;
+    let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
+        let objective = profiles.objective(&simulation.centreline, &request.objective);
+        report(
+            Stage::Refine,
+            iteration,
+            spent + evaluations,
+            objective,
+            0.0,
+            observer,
+        )
+    };
+    // With a final refine, the refine on the verification model spends at
+    // most its staging solves, and the final one the rest.
+    let first_budget = match request.final_refine {
+        Some(last) => request.refine_budget.min(last.staging_solves),
+        None => request.refine_budget,
+    };
     let mut refine_summary = None;
-    if space.dimension() > 0 && request.refine_budget > 0 {
-        let problem = RefineProblem {
-            model: &verify,
-            target: &profiles,
-            freedom: request.freedom,
-            bounds: &bounds,
-            free_length: !request.fix_length,
-            correction: None,
-            threads: request.threads,
-            cancel,
-        };
-        let spent = state.evaluations;
-        let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
-            let objective = profiles.objective(&simulation.centreline, &request.objective);
-            report(
-                Stage::Refine,
-                iteration,
-                spent + evaluations,
-                objective,
-                0.0,
-                observer,
-            )
-        };
+    let mut jacobian = None;
+    if space.dimension() > 0 && first_budget > 0 {
         let refined = match request.correction_mesh {
             Some(mesh) => {
                 let finer = SimulateOptions {
@@ -552,23 +577,46 @@ pub fn design_resumable(
                     &finer,
                     best,
                     simulation,
-                    request.refine_budget,
+                    first_budget,
                     &mut on_progress,
                 )?
             }
-            None => problem.refine(
-                best,
-                simulation,
-                request.refine_budget,
-                None,
-                &mut on_progress,
-            )?,
+            None => problem.refine(best, simulation, first_budget, None, &mut on_progress)?,
         };
         best = refined.design;
         simulation = refined.simulation;
-        state.evaluations += refined.summary.map_or(0, |r| r.solves);
+        jacobian = refined.jacobian;
         refine_summary = refined.summary;
     }
+    let mut final_refine_summary = None;
+    if let Some(last) = request.final_refine {
+        let finest = SimulateOptions {
+            mesh: last.mesh,
+            rings: request.rings,
+            ..SimulateOptions::default()
+        };
+        simulation =
+            simulate_from(&best, &finest, Some(&simulation)).map_err(DesignRunError::Verify)?;
+        let done = refine_summary.map_or(0, |r| r.solves);
+        let budget = request.refine_budget - done;
+        if space.dimension() > 0 && budget > 0 {
+            let problem = RefineProblem {
+                model: &finest,
+                ..problem
+            };
+            let refined = problem.refine(best, simulation, budget, jacobian, &mut |i, e, s| {
+                on_progress(i, done + e, s)
+            })?;
+            best = refined.design;
+            simulation = refined.simulation;
+            final_refine_summary = refined.summary;
+        }
+    }
+    state.evaluations += [refine_summary, final_refine_summary]
+        .iter()
+        .flatten()
+        .map(|r| r.solves)
+        .sum::<usize>();
     let (metrics, profiles) = verified(&profiles, &simulation, &request.objective);
     Ok(DesignOutcome {
         at_limits: at_limits(&best.patches, &request.bounds),
@@ -588,6 +636,7 @@ pub fn design_resumable(
         evaluations: state.evaluations,
         termination,
         refine: refine_summary,
+        final_refine: final_refine_summary,
         elapsed: Duration::from_secs_f64(elapsed()),
     })
 }

@@ -40,6 +40,10 @@ pub struct DesignReport {
     /// when it did not run).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refine: Option<RefineSummary>,
+    /// The final refine on the finest model (`fine`'s uniform 0.5 mm), from
+    /// the refine's result; absent when the run had none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub final_refine: Option<RefineSummary>,
     pub seed: u64,
     pub profiles: Profiles,
     /// Patch sizes and angles on (or beyond) a fabrication limit.
@@ -69,6 +73,7 @@ impl DesignReport {
             elapsed_s: outcome.elapsed.as_secs_f64(),
             termination: outcome.termination,
             refine: outcome.refine,
+            final_refine: outcome.final_refine,
             seed,
             profiles: outcome.profiles.clone(),
             at_limits: outcome.at_limits.clone(),
