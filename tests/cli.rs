@@ -511,6 +511,55 @@ fn design_rejects_bad_options_in_one_line() {
     );
 }
 
+/// Fine runs draft's corrected refine (at most 60 solves), then its final
+/// refine on the uniform 0.5 mm mesh with the rest of `--refine`; the
+/// summary names both and design.json's metrics are the final refine's.
+#[test]
+fn fine_reports_its_final_refine() {
+    let dir = temp_dir("fine");
+    std::fs::create_dir_all(&dir).unwrap();
+    let curve = dir.join("arc.csv");
+    let preset = patchwork(&["preset", "arc", "radius_mm=40", "angle_deg=90"]);
+    std::fs::write(&curve, &preset.stdout).unwrap();
+    let out = dir.join("out");
+    let run = patchwork(&[
+        "design",
+        curve.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--fidelity",
+        "fine",
+        "--budget",
+        "20",
+        "--refine",
+        "75",
+        "--threads",
+        "2",
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = String::from_utf8_lossy(&run.stdout);
+    assert!(text.contains("\nrefine:       shape error"), "{text}");
+    assert!(text.contains("\nfinal refine: shape error"), "{text}");
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    let (staged, last) = (&report["refine"], &report["final_refine"]);
+    let solves = |r: &Value| r["solves"].as_u64().unwrap();
+    assert!(solves(staged) <= 60, "{staged}");
+    assert!(solves(staged) + solves(last) <= 75, "{last}");
+    let after = last["shape_error_after_percent"].as_f64().unwrap();
+    assert!(after <= last["shape_error_before_percent"].as_f64().unwrap());
+    let verified = report["metrics"]["shape_error_percent"].as_f64().unwrap();
+    assert!(
+        (verified - after).abs() < 1e-9,
+        "{verified} against {after}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn design_checkpoints_and_resumes_from_the_file() {
     let dir = temp_dir("checkpoint");
