@@ -511,16 +511,23 @@ fn design_rejects_bad_options_in_one_line() {
     );
 }
 
+/// A 90° arc of radius 40 mm (the `arc` preset) written to `dir/arc.csv`
+/// (the folder created), for the quick design runs.
+fn arc_curve(dir: &std::path::Path) -> std::path::PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let curve = dir.join("arc.csv");
+    let preset = patchwork(&["preset", "arc", "radius_mm=40", "angle_deg=90"]);
+    std::fs::write(&curve, &preset.stdout).unwrap();
+    curve
+}
+
 /// Fine runs draft's corrected refine (at most 60 solves), then its final
 /// refine on the uniform 0.5 mm mesh with the rest of `--refine`; the
 /// summary names both and design.json's metrics are the final refine's.
 #[test]
 fn fine_reports_its_final_refine() {
     let dir = temp_dir("fine");
-    std::fs::create_dir_all(&dir).unwrap();
-    let curve = dir.join("arc.csv");
-    let preset = patchwork(&["preset", "arc", "radius_mm=40", "angle_deg=90"]);
-    std::fs::write(&curve, &preset.stdout).unwrap();
+    let curve = arc_curve(&dir);
     let out = dir.join("out");
     let run = patchwork(&[
         "design",
@@ -563,10 +570,7 @@ fn fine_reports_its_final_refine() {
 #[test]
 fn design_checkpoints_and_resumes_from_the_file() {
     let dir = temp_dir("checkpoint");
-    std::fs::create_dir_all(&dir).unwrap();
-    let curve = dir.join("arc.csv");
-    let preset = patchwork(&["preset", "arc", "radius_mm=40", "angle_deg=90"]);
-    std::fs::write(&curve, &preset.stdout).unwrap();
+    let curve = arc_curve(&dir);
     let checkpoint = dir.join("run.checkpoint");
     let run = |out: &str| {
         patchwork(&[

@@ -74,18 +74,22 @@ fn small_request(budget: usize) -> (DesignRequest, Curve) {
     (request, target)
 }
 
+/// The CI round trips' truth: a 20 × 2.5 mm patch at 15° in the middle of
+/// a 120 mm balloon.
+const OBLIQUE_PATCH: Patch = Patch {
+    x_mm: 0.0,
+    y_mm: 60.0,
+    h_mm: 20.0,
+    w_mm: 2.5,
+    theta_deg: 15.0,
+};
+
 /// The round trip of the CI tests: a 20 × 2.5 mm patch at 15° on a 120 mm
 /// balloon, the length fixed, search and verification on the 2 mm model;
 /// the truth, its centreline and the request with `budget` search
 /// evaluations and `refine` refine solves.
 fn oblique_patch_round_trip(budget: usize, refine: usize) -> (Patch, Curve, DesignRequest) {
-    let truth = Patch {
-        x_mm: 0.0,
-        y_mm: 60.0,
-        h_mm: 20.0,
-        w_mm: 2.5,
-        theta_deg: 15.0,
-    };
+    let truth = OBLIQUE_PATCH;
     let (target, request) = patch_round_trip(truth, 120.0, budget, refine);
     (truth, target, request)
 }
@@ -110,6 +114,24 @@ fn patch_round_trip(
         ..DesignRequest::default()
     };
     (target, request)
+}
+
+/// The oblique patch's centreline on the finer model `target_mesh`, and a
+/// request to design it again on the coarser `verify_mesh`: the length
+/// fixed, 100 search evaluations, 60 refine solves, 2 threads (the caller
+/// adds the finer model's role: correction or final refine).
+fn two_model_round_trip(target_mesh: MeshSpec, verify_mesh: MeshSpec) -> (DesignRequest, Curve) {
+    let (base, target) = one_patch_target_on(120.0, OBLIQUE_PATCH, target_mesh);
+    let request = DesignRequest {
+        base,
+        fix_length: true,
+        budget: 100,
+        refine_budget: 60,
+        threads: 2,
+        verify_mesh,
+        ..DesignRequest::default()
+    };
+    (request, target)
 }
 
 #[test]
@@ -209,28 +231,11 @@ fn refine_takes_a_round_trip_to_its_solution() {
 /// at the start.)
 #[test]
 fn a_finer_model_corrects_the_refine() {
-    let truth = Patch {
-        x_mm: 0.0,
-        y_mm: 60.0,
-        h_mm: 20.0,
-        w_mm: 2.5,
-        theta_deg: 15.0,
-    };
     let finer = MeshSpec::uniform(0.5);
-    let (base, target) = one_patch_target_on(120.0, truth, finer);
+    let (plain_request, target) = two_model_round_trip(finer, MeshSpec::uniform(1.0));
     let corrected_request = DesignRequest {
-        base,
-        fix_length: true,
-        budget: 100,
-        refine_budget: 60,
-        threads: 2,
-        verify_mesh: MeshSpec::uniform(1.0),
         correction_mesh: Some(finer),
-        ..DesignRequest::default()
-    };
-    let plain_request = DesignRequest {
-        correction_mesh: None,
-        ..corrected_request.clone()
+        ..plain_request.clone()
     };
     let cancel = AtomicBool::new(false);
     let corrected = design(&target, &corrected_request, &cancel, &mut |_| {}).unwrap();
@@ -266,27 +271,14 @@ fn a_finer_model_corrects_the_refine() {
 /// and it spends what the refine budget has left.
 #[test]
 fn a_final_refine_goes_on_on_the_finest_model() {
-    let truth = Patch {
-        x_mm: 0.0,
-        y_mm: 60.0,
-        h_mm: 20.0,
-        w_mm: 2.5,
-        theta_deg: 15.0,
-    };
     let finest = MeshSpec::uniform(1.0);
-    let (base, target) = one_patch_target_on(120.0, truth, finest);
+    let (request, target) = two_model_round_trip(finest, MeshSpec::uniform(2.0));
     let request = DesignRequest {
-        base,
-        fix_length: true,
-        budget: 100,
-        refine_budget: 60,
-        threads: 2,
-        verify_mesh: MeshSpec::uniform(2.0),
         final_refine: Some(FinalRefine {
             mesh: finest,
             staging_solves: 25,
         }),
-        ..DesignRequest::default()
+        ..request
     };
     let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {}).unwrap();
     let staged = outcome.refine.expect("the refine ran");
