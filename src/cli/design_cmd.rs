@@ -30,13 +30,12 @@ pub struct DesignArgs {
     /// Random seed: the same seed reproduces the same design.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Forward simulations the search may spend (default: the fidelity's,
-    /// 200/600/200 for draft/standard/fine).
+    /// Forward simulations the search may spend (default 200 in every
+    /// fidelity).
     #[arg(long)]
     budget: Option<usize>,
     /// End the search once this many evaluations pass without a better
-    /// design (default: the fidelity's, 80/200/80 for draft/standard/fine;
-    /// 0: spend the whole budget).
+    /// design (default 80 in every fidelity; 0: spend the whole budget).
     #[arg(long)]
     patience: Option<usize>,
     /// Evaluations of a coarse-to-fine polish: a short CMA-ES run on the
@@ -47,9 +46,10 @@ pub struct DesignArgs {
     #[arg(long)]
     polish: Option<usize>,
     /// Solves of the refine: Levenberg–Marquardt on the shape error on the
-    /// verification model (default: the fidelity's, 60/120/240 for
-    /// draft/standard/fine; 0 turns it off). Fine spends the first 60 as
-    /// draft does and the rest on its final refine on the uniform 0.5 mm mesh.
+    /// verification model (default: the fidelity's, 60/90/240 for
+    /// draft/standard/fine; 0 turns it off). Standard and fine spend the
+    /// first 60 as draft does and the rest on a final refine on the uniform
+    /// 0.5 mm mesh.
     /// A forward-difference Jacobian costs one solve per free variable, a
     /// trial step one (steps between Jacobians use Broyden updates).
     #[arg(long)]
@@ -98,10 +98,11 @@ pub struct DesignArgs {
     #[arg(long)]
     fix_length: bool,
     /// Model fidelity: draft (search on 3 mm rings, refine on 1 mm
-    /// corrected by 0.5 mm, verify on 0.5 mm), standard (search on 2 mm,
-    /// then as draft) or fine (draft's run, then a final refine on a
-    /// uniform 0.5 mm mesh, which is also the verification); graded meshes
-    /// are fine under patches, coarse along bare stretches.
+    /// corrected by 0.5 mm, verify on 0.5 mm), standard (draft's run, then
+    /// about 30 solves of a final refine on a uniform 0.5 mm mesh, which is
+    /// also the verification) or fine (the same final refine, until it
+    /// converges or 240 solves in all); graded meshes are fine under
+    /// patches, coarse along bare stretches.
     #[arg(long, default_value = "standard")]
     fidelity: Fidelity,
     /// Element size of the search model (mm), overriding the fidelity's with

@@ -53,13 +53,14 @@ pub struct JobOptions {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub polish: Option<usize>,
     /// Solves of the Levenberg–Marquardt refine on the shape error
-    /// (default: the fidelity's; fine spends all but draft's 60 on its
-    /// final refine on the uniform 0.5 mm mesh).
+    /// (default: the fidelity's; standard and fine spend all but draft's 60
+    /// on a final refine on the uniform 0.5 mm mesh).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refine: Option<usize>,
     /// Correct the refine by the fidelity's finer model and verify on it
     /// (default true); false refines and verifies on the verification model
-    /// (`fine`'s final refine on its uniform 0.5 mm mesh runs either way).
+    /// (standard's and fine's final refine on the uniform 0.5 mm mesh runs
+    /// either way).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub correction: Option<bool>,
     /// CMA-ES's initial step as a fraction of each variable's range.

@@ -1,5 +1,5 @@
 //! Named fidelity presets: the element sizes of the search and verification
-//! models, and the default evaluation budget. The time and error each costs on
+//! models, the default evaluation budgets and the final refine. The time and error each costs on
 //! the reference curves are measured in BENCHMARKS.md.
 
 use std::str::FromStr;
@@ -15,7 +15,11 @@ pub enum Fidelity {
     /// Search on 3 mm rings, refine on graded 1 mm corrected by graded
     /// 0.5 mm, verify on graded 0.5 mm: a quick look.
     Draft,
-    /// Search on 2 mm elements (600 evaluations), then as draft.
+    /// Draft's run, then a short final refine on the uniform 0.5 mm mesh
+    /// (the rest of 90 solves: Broyden steps from draft's Jacobian), which
+    /// also verifies. (Until the twelfth session standard searched 600
+    /// evaluations on graded 2 mm and then ran as draft: that search beat
+    /// draft's on none of the six bench curves, for twice the time.)
     #[default]
     Standard,
     /// Draft's run (search, corrected refine of 60 solves), then a final
@@ -33,45 +37,37 @@ impl Fidelity {
     pub const NAMES: [&'static str; 3] = ["draft", "standard", "fine"];
 
     /// Meshes of the search and the verification model for a balloon of
-    /// radius `radius_mm` (fine's final refine has its own, uniform 0.5 mm).
-    /// All are graded (fine under patches and at the ends, coarse along bare
-    /// stretches: no loss of accuracy there, most of a sparse balloon's
-    /// unknowns saved). The search
-    /// meshes keep the 2 mm cross-section (10 sides on the reference balloon):
+    /// radius `radius_mm`, the same in every preset (standard's and fine's
+    /// final refine has its own, uniform 0.5 mm). Both are graded (fine
+    /// under patches and at the ends, coarse along bare stretches: no loss
+    /// of accuracy there, most of a sparse balloon's unknowns saved). The
+    /// search mesh keeps the 2 mm cross-section (10 sides on the reference balloon):
     /// a 1 mm section is more accurate but makes each factorisation about 5×
-    /// dearer, which no search can afford (fine's final refine pays it).
+    /// dearer, which no search can afford (the final refine pays it).
     pub fn meshes(self, radius_mm: f64) -> (MeshSpec, MeshSpec) {
         let draft_search = MeshSpec {
             element_mm: 3.0,
             around: Some(MeshSpec::around_for(radius_mm, 2.0)),
             straight_mm: Some(6.0),
         };
-        match self {
-            Fidelity::Draft | Fidelity::Fine => (draft_search, MeshSpec::graded(1.0, 4.0)),
-            Fidelity::Standard => (MeshSpec::graded(2.0, 6.0), MeshSpec::graded(1.0, 4.0)),
-        }
+        // The presets differ only in their refine (`refine_budget`,
+        // `final_refine`).
+        (draft_search, MeshSpec::graded(1.0, 4.0))
     }
 
-    /// Default forward evaluations of the search.
+    /// Default forward evaluations of the search (every preset's).
     pub fn budget(self) -> usize {
-        match self {
-            Fidelity::Draft => 200,
-            Fidelity::Standard => 600,
-            Fidelity::Fine => 200,
-        }
+        200
     }
 
     /// Evaluations the search may go without improving its best before it
-    /// ends (`DesignRequest::search_patience`): draft's and fine's 200-
-    /// evaluation search stops after 80 such, standard's 600 after 200. On
+    /// ends (`DesignRequest::search_patience`): every preset's 200-
+    /// evaluation search stops after 80 such. On
     /// the Hilbert curve and the pancake the draft search never beats the
     /// KSA seed (80 evaluations instead of 200, same design); on the spring
     /// its improvements come at 49, 65 and 97 evaluations.
     pub fn search_patience(self) -> usize {
-        match self {
-            Fidelity::Draft | Fidelity::Fine => 80,
-            Fidelity::Standard => 200,
-        }
+        80
     }
 
     /// Solves of the refine (Levenberg–Marquardt on the shape error on the
@@ -81,13 +77,16 @@ impl Fidelity {
     /// takes 60: one Jacobian and about 25 steps. On single runs, 120
     /// bought 0.155 → 0.146 % on the Hilbert curve, nothing on the pancake
     /// (0.646 / 0.652 %) and the spring (1.229 / 1.227 %), for 20–35 % more
-    /// time. Fine spends 60 as draft does and the rest on the uniform 0.5 mm
-    /// mesh, where each solve costs several times more and the shape error
-    /// can go further down.
+    /// time. Standard (90) and fine (240) spend 60 as draft does and the
+    /// rest on the uniform 0.5 mm mesh, where each solve costs several times
+    /// more and the shape error can go further down: standard's 30 or so
+    /// are Broyden steps from draft's Jacobian; fine's final refine goes on
+    /// until a fresh Jacobian's step gains under 0.1 % (on single runs its
+    /// budget did not bind: 120 reached the same designs as 240).
     pub fn refine_budget(self) -> usize {
         match self {
             Fidelity::Draft => 60,
-            Fidelity::Standard => 120,
+            Fidelity::Standard => 90,
             Fidelity::Fine => 240,
         }
     }
@@ -98,23 +97,19 @@ impl Fidelity {
     /// takes draft from 0.70 % to 0.15 % on the uniform 0.5 mm model for
     /// three finer solves (medians of three, BENCHMARKS.md).
     pub fn correction_mesh(self) -> Option<MeshSpec> {
-        match self {
-            Fidelity::Draft | Fidelity::Standard | Fidelity::Fine => {
-                Some(MeshSpec::graded(0.5, 4.0))
-            }
-        }
+        Some(MeshSpec::graded(0.5, 4.0))
     }
 
-    /// Fine's last stage: after draft's corrected refine (its first 60
-    /// solves), the refine on the uniform 0.5 mm mesh with the rest of the
-    /// budget, from draft's result and its Jacobian.
+    /// Standard's and fine's last stage: after draft's corrected refine
+    /// (its first 60 solves), the refine on the uniform 0.5 mm mesh with the
+    /// rest of the budget, from draft's result and its Jacobian.
     pub fn final_refine(self) -> Option<FinalRefine> {
         match self {
-            Fidelity::Fine => Some(FinalRefine {
+            Fidelity::Standard | Fidelity::Fine => Some(FinalRefine {
                 mesh: MeshSpec::uniform(0.5),
                 staging_solves: Fidelity::Draft.refine_budget(),
             }),
-            Fidelity::Draft | Fidelity::Standard => None,
+            Fidelity::Draft => None,
         }
     }
 

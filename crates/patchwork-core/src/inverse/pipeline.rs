@@ -82,9 +82,10 @@ pub struct DesignRequest {
     /// the refine and the verification are the verification model's.
     pub correction_mesh: Option<MeshSpec>,
     /// A last refine on a finer model still, from the refine's result (and
-    /// its Jacobian), on which the design is then verified: `fine`'s uniform
-    /// 0.5 mm stage. It spends what `refine_budget` has left after the
-    /// refine on the verification model. None: the refine's result stands.
+    /// its Jacobian), on which the design is then verified: standard's and
+    /// fine's uniform 0.5 mm stage. It spends what `refine_budget` has left
+    /// after the refine on the verification model. None: the refine's
+    /// result stands.
     pub final_refine: Option<FinalRefine>,
     /// CMA-ES's initial step σ₀ in the unit cube of the free variables (each
     /// variable's range maps to [0, 1]).
@@ -261,8 +262,8 @@ pub struct DesignOutcome {
     pub termination: Termination,
     /// What the refine did; none when it did not run.
     pub refine: Option<RefineSummary>,
-    /// What the final refine on the finest model did (`fine`); none when
-    /// the request has none.
+    /// What the final refine on the finest model did (standard, fine); none
+    /// when the request has none.
     pub final_refine: Option<RefineSummary>,
     /// Patch sizes and angles on (or beyond) a fabrication limit of the
     /// request's bounds: the target may want what the bounds forbid.
