@@ -41,9 +41,10 @@ impl Fidelity {
     /// final refine has its own, uniform 0.5 mm). Both are graded (fine
     /// under patches and at the ends, coarse along bare stretches: no loss
     /// of accuracy there, most of a sparse balloon's unknowns saved). The
-    /// search mesh keeps the 2 mm cross-section (10 sides on the reference balloon):
-    /// a 1 mm section is more accurate but makes each factorisation about 5×
-    /// dearer, which no search can afford (the final refine pays it).
+    /// search mesh (draft's, which every preset now uses) keeps the 2 mm
+    /// cross-section (10 sides on the reference balloon): a 1 mm section is
+    /// more accurate but makes each factorisation about 5× dearer, which no
+    /// search can afford (the final refine pays it).
     pub fn meshes(self, radius_mm: f64) -> (MeshSpec, MeshSpec) {
         let draft_search = MeshSpec {
             element_mm: 3.0,
@@ -62,10 +63,10 @@ impl Fidelity {
 
     /// Evaluations the search may go without improving its best before it
     /// ends (`DesignRequest::search_patience`): every preset's 200-
-    /// evaluation search stops after 80 such. On
-    /// the Hilbert curve and the pancake the draft search never beats the
-    /// KSA seed (80 evaluations instead of 200, same design); on the spring
-    /// its improvements come at 49, 65 and 97 evaluations.
+    /// evaluation search stops after 80 such. On the Hilbert curve and the
+    /// pancake the search never beats the KSA seed (80 evaluations instead
+    /// of 200, same design); on the spring its improvements come at 49, 65
+    /// and 97 evaluations.
     pub fn search_patience(self) -> usize {
         80
     }
@@ -93,9 +94,9 @@ impl Fidelity {
 
     /// The finer model that corrects the refine and verifies its result
     /// (`correction.rs`): graded 0.5 mm (fine under patches and at the ends,
-    /// 4 mm bare stretches), in every preset. On the Hilbert curve the correction
-    /// takes draft from 0.70 % to 0.15 % on the uniform 0.5 mm model for
-    /// three finer solves (medians of three, BENCHMARKS.md).
+    /// 4 mm bare stretches), in every preset. On the Hilbert curve the
+    /// correction takes draft from 0.70 % to 0.15 % on the uniform 0.5 mm
+    /// model for three finer solves (medians of three, BENCHMARKS.md).
     pub fn correction_mesh(self) -> Option<MeshSpec> {
         Some(MeshSpec::graded(0.5, 4.0))
     }
@@ -114,8 +115,9 @@ impl Fidelity {
     }
 
     /// Sets the search, verification and correction meshes, the search's
-    /// patience and the refine budget of `request` for its balloon (set `request.base` first; the search
-    /// budget is the caller's choice). No preset runs the CMA-ES polish: on
+    /// patience, the refine budget and the final refine of `request` for
+    /// its balloon (set `request.base` first; the search budget is the
+    /// caller's choice). No preset runs the CMA-ES polish: on
     /// ten round trips a polish of 120 evaluations reached a median shape
     /// error of 0.28 % with 9 of 10 under 0.5 %, a refine of 60 solves
     /// 0.06 % with 10 of 10 in a quarter of the time (BENCHMARKS.md); a
