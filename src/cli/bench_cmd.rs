@@ -253,12 +253,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 match design(target, &request, &AtomicBool::new(false), &mut |_| {}) {
                     Ok(o) => {
                         let wall_s = started.elapsed().as_secs_f64();
-                        // Fine's final refine verifies on the reference mesh.
-                        let verified_on = match request.final_refine {
-                            Some(last) => last.mesh,
-                            None => request.verify_mesh,
-                        };
-                        let reference = if verified_on == REFERENCE_MESH {
+                        let reference = if o.verified_on == REFERENCE_MESH {
                             o.metrics.shape_error_percent
                         } else {
                             assess(target, &o.design, REFERENCE_MESH, &request)

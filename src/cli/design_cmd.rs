@@ -57,8 +57,8 @@ pub struct DesignArgs {
     /// Refine on the verification model without the finer model's
     /// correction, and verify there (every preset corrects the refine by a
     /// graded 0.5 mm model and verifies on it: on the Hilbert curve
-    /// 0.70 % → 0.15 % shape error for three finer solves; fine then
-    /// refines on the uniform 0.5 mm mesh all the same).
+    /// 0.70 % → 0.15 % shape error for three finer solves; standard and
+    /// fine then refine on the uniform 0.5 mm mesh all the same).
     #[arg(long)]
     no_correction: bool,
     /// Weight of the shape error (aligned RMS distance / curve length) added
@@ -107,7 +107,7 @@ pub struct DesignArgs {
     fidelity: Fidelity,
     /// Element size of the search model (mm), overriding the fidelity's with
     /// uniform meshes; the refine and verification then use half of it,
-    /// uncorrected (and fine's final refine is dropped).
+    /// uncorrected (and standard's and fine's final refine is dropped).
     #[arg(long)]
     mesh_mm: Option<f64>,
     /// Write the run's state here after every generation; if the file exists,

@@ -251,6 +251,8 @@ fn a_finer_model_corrects_the_refine() {
         corrected.design.patches[0]
     );
     assert_eq!(summary.corrected_on_element_mm, Some(0.5));
+    assert_eq!(corrected.verified_on, finer);
+    assert_eq!(plain.verified_on, MeshSpec::uniform(1.0));
     assert!(summary.correction_solves >= 2, "{summary:?}");
     assert!(summary.solves <= 60, "{summary:?}");
     assert!(
@@ -291,6 +293,7 @@ fn a_final_refine_goes_on_on_the_finest_model() {
     assert!(staged.solves + last.solves <= 60, "{last:?}");
     assert!(last.iterations > 0, "{last:?}");
     // Verified on the finest model: the final refine's own result.
+    assert_eq!(outcome.verified_on, finest);
     assert!((last.shape_error_after_percent - outcome.metrics.shape_error_percent).abs() < 1e-9);
     let on_finest = assess(&target, &outcome.design, finest, &request)
         .unwrap()

@@ -265,6 +265,10 @@ pub struct DesignOutcome {
     /// What the final refine on the finest model did (standard, fine); none
     /// when the request has none.
     pub final_refine: Option<RefineSummary>,
+    /// The mesh of `simulation`, on which `metrics` were taken: the final
+    /// refine's, the correction's (when the refine ran corrected) or the
+    /// verification model's.
+    pub verified_on: MeshSpec,
     /// Patch sizes and angles on (or beyond) a fabrication limit of the
     /// request's bounds: the target may want what the bounds forbid.
     pub at_limits: Vec<AtLimit>,
@@ -566,6 +570,7 @@ pub fn design_resumable(
     };
     let mut refine_summary = None;
     let mut jacobian = None;
+    let mut verified_on = request.verify_mesh;
     if space.dimension() > 0 && first_budget > 0 {
         let refined = match request.correction_mesh {
             Some(mesh) => {
@@ -588,6 +593,17 @@ pub fn design_resumable(
         simulation = refined.simulation;
         jacobian = refined.jacobian;
         refine_summary = refined.summary;
+        // A corrected refine verifies on its finer model.
+        if let (
+            Some(mesh),
+            Some(RefineSummary {
+                corrected_on_element_mm: Some(_),
+                ..
+            }),
+        ) = (request.correction_mesh, refine_summary)
+        {
+            verified_on = mesh;
+        }
     }
     let mut final_refine_summary = None;
     if let Some(last) = request.final_refine {
@@ -598,6 +614,7 @@ pub fn design_resumable(
         };
         simulation =
             simulate_from(&best, &finest, Some(&simulation)).map_err(DesignRunError::Verify)?;
+        verified_on = last.mesh;
         let done = refine_summary.map_or(0, |r| r.solves);
         let budget = request.refine_budget - done;
         if space.dimension() > 0 && budget > 0 {
@@ -638,6 +655,7 @@ pub fn design_resumable(
         termination,
         refine: refine_summary,
         final_refine: final_refine_summary,
+        verified_on,
         elapsed: Duration::from_secs_f64(elapsed()),
     })
 }

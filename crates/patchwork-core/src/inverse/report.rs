@@ -41,8 +41,7 @@ pub struct DesignReport {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refine: Option<RefineSummary>,
     /// The final refine on the finest model (standard's and fine's uniform
-    /// 0.5 mm), from
-    /// the refine's result; absent when the run had none.
+    /// 0.5 mm), from the refine's result; absent when the run had none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub final_refine: Option<RefineSummary>,
     pub seed: u64,
