@@ -50,8 +50,9 @@ pub struct DesignArgs {
     /// draft/standard/fine; 0 turns it off). Standard and fine spend the
     /// first 60 as draft does and the rest on a final refine on the uniform
     /// 0.5 mm mesh.
-    /// A forward-difference Jacobian costs one solve per free variable, a
-    /// trial step one (steps between Jacobians use Broyden updates).
+    /// A Jacobian (linearised responses of the solved state, one
+    /// factorisation) counts as one solve, a trial step as one (steps
+    /// between Jacobians use Broyden updates).
     #[arg(long)]
     refine: Option<usize>,
     /// Refine on the verification model without the finer model's
@@ -316,18 +317,23 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
 /// One line on a refine stage (empty when it did not run).
 fn refine_line(label: &str, refine: Option<&RefineSummary>) -> String {
     match refine {
-        Some(refine) if refine.solves == 0 => format!(
-            "{label} none: one step needs {} solves (--refine)\n",
-            refine.variables + 1
-        ),
+        Some(refine) if refine.solves == 0 => {
+            format!("{label} none: one step needs 2 solves, a Jacobian and a trial (--refine)\n")
+        }
         Some(refine) => format!(
-            "{label} shape error {:.2} % → {:.2} % in {} steps ({} solves, {} of them for {} Jacobians)\n",
+            "{label} shape error {:.2} % → {:.2} % in {} steps ({} solves, {} Jacobians{})\n",
             refine.shape_error_before_percent,
             refine.shape_error_after_percent,
             refine.iterations,
             refine.solves,
-            refine.jacobians * refine.variables,
-            refine.jacobians
+            refine.jacobians,
+            match refine.differenced_jacobians {
+                0 => String::new(),
+                d => format!(
+                    ", {d} of them by forward differences, {} solves each",
+                    refine.variables
+                ),
+            }
         ),
         None => String::new(),
     }

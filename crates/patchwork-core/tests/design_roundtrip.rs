@@ -205,10 +205,10 @@ fn refine_takes_a_round_trip_to_its_solution() {
         "{}",
         outcome.metrics.shape_error_percent
     );
-    // Measured: 0.0067 % in 33 refine solves (17 steps, 2 Jacobians); Y
-    // 60.07, H 20.16, W 2.49, Θ 14.75° — even the width, which CMA-ES alone
-    // leaves at 2.08, is found. (With a fresh Jacobian for every step:
-    // 0.0056 % in 33 solves.)
+    // Measured: 0.0044 % in 27 refine solves (linearised Jacobians); Y
+    // 59.90, H 20.07, W 2.52, Θ 15.01° — even the width, which CMA-ES alone
+    // leaves at 2.08, is found. (With forward-difference Jacobians, a solve
+    // per variable: 0.0067 % in 33 solves, 17 steps from 2 Jacobians.)
     assert!(
         (found.y_mm - truth.y_mm).abs() < 0.5
             && (found.h_mm - truth.h_mm).abs() < 0.5
@@ -222,9 +222,10 @@ fn refine_takes_a_round_trip_to_its_solution() {
 /// refine's solves run on the 1 mm one. Uncorrected, the refine fits the
 /// 1 mm model's shape, and the design carries that model's error onto the
 /// 0.5 mm model; corrected by the 0.5 mm model's residuals (three 0.5 mm
-/// solves), it fits the 0.5 mm model's shape. Measured: 0.20 % uncorrected,
-/// 0.021 % corrected (25 steps from 3 Jacobians in 59 solves; 0.040 % when
-/// every step took a fresh Jacobian), the width found to 2.51 for 2.5.
+/// solves), it fits the 0.5 mm model's shape. Measured: 0.22 % uncorrected,
+/// 0.0085 % corrected (21 steps from 4 linearised Jacobians in 37 solves;
+/// with forward-difference Jacobians 0.021 % in 59), the width found to
+/// 2.505 for 2.5.
 /// (Corrected by a
 /// 1 mm model, a 2 mm refine overshoots: the two models' responses to the
 /// patch differ too much for a first-order correction, and the rounds stop
@@ -299,8 +300,10 @@ fn a_final_refine_goes_on_on_the_finest_model() {
         .unwrap()
         .shape_error_percent;
     assert!((on_finest - outcome.metrics.shape_error_percent).abs() < 1e-6);
-    // It began at the staged result on the finest model (0.92 % when this
-    // was written) and ends at 0.069 % (its budget spent).
+    // It began at the staged result on the finest model (0.68 % when this
+    // was written) and ends at 8e-9 %, the target's own design, in 26 of its
+    // 35 solves (0.069 % with its budget spent, when the Jacobians were
+    // forward differences).
     assert!(
         last.shape_error_after_percent < 0.2 * last.shape_error_before_percent,
         "{last:?}"

@@ -101,6 +101,22 @@ impl Design {
         }
     }
 
+    /// The unit tests' small scene: an 80 mm reference balloon with one
+    /// 15 × 2.5 mm patch at Y = 40 mm, turned by 10°.
+    #[cfg(test)]
+    pub(crate) fn one_patch_test_scene() -> Design {
+        let patch = Patch {
+            x_mm: 0.0,
+            y_mm: 40.0,
+            h_mm: 15.0,
+            w_mm: 2.5,
+            theta_deg: 10.0,
+        };
+        let mut design = Design::reference(vec![patch]);
+        design.balloon.length_mm = 80.0;
+        design
+    }
+
     /// Pressure in MPa (N/mm²), the unit the mechanics works in.
     pub fn pressure_mpa(&self) -> f64 {
         self.pressure_kpa * 1e-3

@@ -192,6 +192,34 @@ impl TubeMesh {
         }
     }
 
+    /// The same mesh on a balloon of reference length `length`: the tube's
+    /// rings at the same fractions of it, the cap moved with its rim. Node
+    /// k stays the same material point of the stretched balloon (as the
+    /// refine's length variable stretches the patches with it).
+    pub fn stretched_to(&self, length: f64) -> TubeMesh {
+        let scale = length / self.length;
+        let tube_nodes = self.ring_y.len() * self.around;
+        let nodes = self
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let z = if k < tube_nodes {
+                    p.z * scale
+                } else {
+                    p.z + length - self.length
+                };
+                Point::new(p.x, p.y, z)
+            })
+            .collect();
+        TubeMesh {
+            nodes,
+            ring_y: self.ring_y.iter().map(|y| y * scale).collect(),
+            length,
+            ..self.clone()
+        }
+    }
+
     /// Unrolled coordinates (X, Y) of a tube node.
     pub fn unrolled(&self, node: usize) -> [f64; 2] {
         let j = node % self.around;

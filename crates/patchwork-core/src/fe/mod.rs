@@ -23,6 +23,7 @@ pub mod newton;
 pub mod overlap;
 pub mod pressure;
 pub mod section;
+pub mod sensitivity;
 mod simulate;
 mod tangent_factor;
 pub mod tube_theory;

@@ -268,6 +268,44 @@ impl Model {
     }
 }
 
+impl Model {
+    /// ∇Π of this model at `x` minus `base`'s at the same positions: the
+    /// out-of-balance force that changing `base`'s design (or the balloon's
+    /// reference length) to this model's puts on a state of `base`. Both
+    /// models must number their nodes and DOFs alike (`None` otherwise, or
+    /// outside a material's domain). Where they share the reference mesh
+    /// and pressure, only the triangles whose section differs contribute,
+    /// so moving one patch costs the elements its outline touches.
+    pub fn gradient_change(&self, base: &Model, x: &[Point]) -> Option<Vec<f64>> {
+        if self.dof != base.dof || self.triangles.len() != base.triangles.len() {
+            return None;
+        }
+        let shared = self.mesh.nodes == base.mesh.nodes
+            && self.pressure == base.pressure
+            && self.materials == base.materials;
+        let mut change = vec![0.0; self.dof_count];
+        for t in 0..self.triangles.len() {
+            if shared && self.sections[t] == base.sections[t] {
+                continue;
+            }
+            let corners = self.corners(x, t);
+            let dv = volume_gradient(&corners);
+            for (model, sign) in [(self, 1.0), (base, -1.0)] {
+                let tri = &model.triangles[t];
+                let (_, force, _) = tri.evaluate(&corners, &model.sections[t], &model.materials)?;
+                for a in 0..3 {
+                    if let Some(d) = self.dof[tri.nodes[a]] {
+                        for i in 0..3 {
+                            change[d + i] += sign * (force[(i, a)] - model.pressure * dv[(i, a)]);
+                        }
+                    }
+                }
+            }
+        }
+        Some(change)
+    }
+}
+
 /// A normal given in the unrolled plane, in the triangle's local frame. The
 /// affine map from unrolled to local coordinates, M = L U⁻¹ (edge vectors),
 /// takes normals by M⁻ᵀ = L⁻ᵀ Uᵀ, and L⁻ᵀ's columns are ∇N₁, ∇N₂.
@@ -304,4 +342,50 @@ fn unrolled_triangle(mesh: &TubeMesh, nodes: [usize; 3]) -> [[f64; 2]; 3] {
 fn flat_area(p: &[[f64; 2]; 3]) -> f64 {
     0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]))
         .abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::mesh::MeshSpec;
+    use crate::fe::{SimulateOptions, simulate};
+
+    /// Skipping the triangles whose section did not change loses nothing:
+    /// the change equals the difference of two full assemblies; and a model
+    /// numbered differently has none.
+    #[test]
+    fn the_gradient_change_is_the_difference_of_two_assemblies() {
+        let design = Design::one_patch_test_scene();
+        let mut other = design.clone();
+        other.patches[0].theta_deg = 13.0;
+        other.patches[0].h_mm = 16.0;
+        let spec = MeshSpec::uniform(2.0);
+        let options = SimulateOptions {
+            mesh: spec,
+            ..SimulateOptions::default()
+        };
+        let x = simulate(&design, &options).unwrap().positions;
+        let model =
+            |d: &Design, spec| Model::new(d, TubeMesh::for_design(d, spec), CutElements::default());
+        let (base, changed) = (model(&design, spec), model(&other, spec));
+        let gradient = |m: &Model| {
+            let mut g = vec![0.0; m.dof_count];
+            m.assemble(&x, &m.sections, 0.0, &mut g, &mut Vec::new())
+                .unwrap();
+            g
+        };
+        let (g0, g1) = (gradient(&base), gradient(&changed));
+        let change = changed.gradient_change(&base, &x).unwrap();
+        let size = g1.iter().fold(0.0_f64, |m, g| m.max(g.abs()));
+        let worst = change
+            .iter()
+            .zip(g1.iter().zip(&g0))
+            .fold(0.0_f64, |m, (c, (a, b))| m.max((c - (a - b)).abs()));
+        assert!(
+            size > 1e-3 && worst < 1e-12 * size.max(1.0),
+            "{worst} against {size}"
+        );
+        let finer = model(&other, MeshSpec::uniform(1.0));
+        assert!(finer.gradient_change(&base, &x).is_none());
+    }
 }

@@ -131,6 +131,37 @@ impl Solver {
         Ok(Solver { pattern })
     }
 
+    /// Solves K Δuⱼ = −fⱼ for every load fⱼ (over the free DOFs), with K the
+    /// tangent of `model` at `x` factorised once, without shift: the state's
+    /// first-order response to out-of-balance forces
+    /// ([`super::sensitivity`]). `None` when K is not positive definite (an
+    /// unstable state has no unique response) or `x` is outside a
+    /// material's domain.
+    pub fn linear_responses(
+        &self,
+        model: &Model,
+        x: &[Point],
+        loads: Vec<Vec<f64>>,
+    ) -> Option<Vec<Vec<f64>>> {
+        let mut gradient = vec![0.0; model.dof_count];
+        let mut values = Vec::new();
+        model.assemble(x, &model.sections, 0.0, &mut gradient, &mut values)?;
+        let mut factor = self.pattern.factor();
+        if !factor.factorise(&values) {
+            return None;
+        }
+        Some(
+            loads
+                .into_iter()
+                .map(|mut load| {
+                    load.iter_mut().for_each(|f| *f = -*f);
+                    factor.solve_in_place(&mut load);
+                    load
+                })
+                .collect(),
+        )
+    }
+
     /// Minimises Π from `x` (updated in place).
     pub fn solve(
         &self,

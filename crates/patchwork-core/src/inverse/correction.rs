@@ -95,6 +95,7 @@ impl RefineProblem<'_> {
         let mut correction_solves = 1;
         let (mut design, mut coarse) = (start, simulation);
         let (mut solves, mut iterations, mut jacobians, mut variables) = (0, 0, 0, 0);
+        let mut differenced_jacobians = 0;
         // The correction is a constant, so every round's residuals have the
         // same Jacobian: a round goes on from the last round's.
         let mut jacobian = None;
@@ -108,14 +109,10 @@ impl RefineProblem<'_> {
                 correction: Some(&correction),
                 ..*self
             };
-            // The first round pays the Jacobian (one solve per variable);
+            // The first round pays the Jacobian (one solve, linearised);
             // the rounds share the rest, since later ones go on from it.
             let remaining = budget - solves;
-            let jacobian_cost = if jacobian.is_none() {
-                self.variables(&design).min(remaining)
-            } else {
-                0
-            };
+            let jacobian_cost = usize::from(jacobian.is_none()).min(remaining);
             let share = jacobian_cost + (remaining - jacobian_cost) / (CORRECTION_ROUNDS - round);
             let refined = corrected.refine(design, coarse, share, jacobian, &mut |i, e, s| {
                 on_progress(iterations + i, solves + e, s)
@@ -127,6 +124,7 @@ impl RefineProblem<'_> {
             solves += summary.solves;
             iterations += summary.iterations;
             jacobians += summary.jacobians;
+            differenced_jacobians += summary.differenced_jacobians;
             variables = summary.variables;
             (design, coarse) = (refined.design, refined.simulation);
             if summary.iterations == 0 {
@@ -152,6 +150,7 @@ impl RefineProblem<'_> {
                 shape_error_after_percent: best.error,
                 iterations,
                 jacobians,
+                differenced_jacobians,
                 solves,
                 variables,
                 corrected_on_element_mm: Some(finer.mesh.element_mm),
