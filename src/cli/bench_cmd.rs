@@ -132,7 +132,7 @@ fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
                 true,
                 60,
             ),
-            setting("standard 60 refine 90", Fidelity::Standard, 60, false, 90),
+            setting("standard 60 refine 75", Fidelity::Standard, 60, false, 75),
         ];
         return Ok((curves, settings));
     }

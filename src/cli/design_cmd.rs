@@ -46,7 +46,7 @@ pub struct DesignArgs {
     #[arg(long)]
     polish: Option<usize>,
     /// Solves of the refine: Levenberg–Marquardt on the shape error on the
-    /// verification model (default: the fidelity's, 60/90/240 for
+    /// verification model (default: the fidelity's, 60/75/240 for
     /// draft/standard/fine; 0 turns it off). Standard and fine spend the
     /// first 60 as draft does and the rest on a final refine on the uniform
     /// 0.5 mm mesh.
@@ -100,7 +100,7 @@ pub struct DesignArgs {
     fix_length: bool,
     /// Model fidelity: draft (search on 3 mm rings, refine on 1 mm
     /// corrected by 0.5 mm, verify on 0.5 mm), standard (draft's run, then
-    /// about 30 solves of a final refine on a uniform 0.5 mm mesh, which is
+    /// about 15 solves of a final refine on a uniform 0.5 mm mesh, which is
     /// also the verification) or fine (the same final refine, until it
     /// converges or 240 solves in all); graded meshes are fine under
     /// patches, coarse along bare stretches.

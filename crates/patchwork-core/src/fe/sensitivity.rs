@@ -3,7 +3,7 @@
 //! equilibrium), for the refine's Jacobian.
 //!
 //! At the converged state x of design p, ∇Π(x; p) = 0. For a changed design
-//! p′ whose mesh numbers its nodes alike,
+//! p′ on the same mesh (stretched to its balloon length, below),
 //!
 //!   ∇Π(x + Δx; p′) ≈ ∇Π(x; p′) + K(x; p) Δx = 0
 //!   ⇒ Δx = −K⁻¹ [∇Π(x; p′) − ∇Π(x; p)],
@@ -15,7 +15,7 @@
 //! elements whose section it alters (those a moved patch outline touches)
 //! and one forward/back substitution, instead of a Newton solve of about a
 //! dozen factorisations. The centreline of x + Δx is fitted as a solve's is
-//! (`centreline.rs`), on the changed design's mesh.
+//! (`centreline.rs`), on the stretched mesh.
 //!
 //! Each changed design is linearised on the converged state's own mesh,
 //! stretched to its balloon length ([`TubeMesh::stretched_to`]), so node k

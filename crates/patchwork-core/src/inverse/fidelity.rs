@@ -16,8 +16,8 @@ pub enum Fidelity {
     /// 0.5 mm, verify on graded 0.5 mm: a quick look.
     Draft,
     /// Draft's run, then a short final refine on the uniform 0.5 mm mesh
-    /// (the rest of 90 solves: Broyden steps from draft's Jacobian), which
-    /// also verifies. (Until the twelfth session standard searched 600
+    /// (the rest of 75 solves), which also verifies. (Until the twelfth
+    /// session standard searched 600
     /// evaluations on graded 2 mm and then ran as draft: that search beat
     /// draft's on none of the six bench curves, for twice the time.)
     #[default]
@@ -72,22 +72,26 @@ impl Fidelity {
     }
 
     /// Solves of the refine (Levenberg–Marquardt on the shape error on the
-    /// verification model, Broyden-updated between forward-difference
-    /// Jacobians of one solve per variable, 31 on the Hilbert curve; it
-    /// stops earlier once a fresh Jacobian's step gains under 0.1 %). Draft
-    /// takes 60: one Jacobian and about 25 steps. On single runs, 120
-    /// bought 0.155 → 0.146 % on the Hilbert curve, nothing on the pancake
-    /// (0.646 / 0.652 %) and the spring (1.229 / 1.227 %), for 20–35 % more
-    /// time. Standard (90) and fine (240) spend 60 as draft does and the
+    /// verification model, Broyden-updated between Jacobians from
+    /// linearised responses, each counted as one solve; it stops earlier
+    /// once a fresh Jacobian's step gains under 0.1 %). Draft takes 60.
+    /// (With forward-difference Jacobians, 31 solves each on the Hilbert
+    /// curve, 60 was one Jacobian and about 25 steps, and 120 bought
+    /// 0.155 → 0.146 % on the Hilbert curve and nothing on the pancake and
+    /// the spring; since the thirteenth session the same 60 are mostly
+    /// steps.) Standard (75) and fine (240) spend 60 as draft does and the
     /// rest on the uniform 0.5 mm mesh, where each solve costs several times
-    /// more and the shape error can go further down: standard's 30 or so
-    /// are Broyden steps from draft's Jacobian; fine's final refine goes on
-    /// until a fresh Jacobian's step gains under 0.1 % (on single runs its
-    /// budget did not bind: 120 reached the same designs as 240).
+    /// more and the shape error can go further down: standard about 15,
+    /// fine until a fresh Jacobian's step gains under 0.1 %. Standard's 15
+    /// were 30 until cheap Jacobians let the final refine go on where a
+    /// forward-difference Jacobian no longer fitted its budget: 30 then
+    /// took the Hilbert curve from 37 to 54 s and the pancake from 62 to
+    /// 87 s for the same shape error; 15 take 45 and 61 s, again for the
+    /// same error (medians of three, BENCHMARKS.md).
     pub fn refine_budget(self) -> usize {
         match self {
             Fidelity::Draft => 60,
-            Fidelity::Standard => 90,
+            Fidelity::Standard => 75,
             Fidelity::Fine => 240,
         }
     }
