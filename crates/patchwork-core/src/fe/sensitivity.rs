@@ -62,20 +62,19 @@ pub fn linearised_centrelines(
         let load = changed.gradient_change(&model, x)?;
         Some((changed.mesh, load))
     });
-    let loads: Vec<Vec<f64>> = changed
-        .iter()
-        .flatten()
-        .map(|(_, load)| load.clone())
-        .collect();
+    let (meshes, loads): (Vec<Option<TubeMesh>>, Vec<Option<Vec<f64>>>) = changed
+        .into_iter()
+        .map(|c| c.map_or((None, None), |(mesh, load)| (Some(mesh), Some(load))))
+        .unzip();
     let mut responses = Solver::new(&model)
         .ok()?
-        .linear_responses(&model, x, loads)?
+        .linear_responses(&model, x, loads.into_iter().flatten().collect())?
         .into_iter();
     let u = model.unknowns(x);
-    let moved: Vec<Option<(TubeMesh, Vec<Point>)>> = changed
+    let moved: Vec<Option<(TubeMesh, Vec<Point>)>> = meshes
         .into_iter()
-        .map(|c| {
-            let (mesh, _) = c?;
+        .map(|mesh| {
+            let mesh = mesh?;
             let du = responses.next()?;
             let shifted: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + d).collect();
             Some((mesh, model.positions(&shifted)))

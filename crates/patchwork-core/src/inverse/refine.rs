@@ -446,7 +446,18 @@ impl RefineProblem<'_> {
         at: &Iterate,
     ) -> DMatrix<f64> {
         let columns: Vec<usize> = (0..at.u.len()).collect();
-        self.solved_columns(space, base, at, &columns)
+        let differences = map_in_threads(&columns, self.threads, &|&j| {
+            let (u, h) = Self::stepped(&at.u, j);
+            self.evaluate(space, base, u, &at.simulation)
+                .map(|p| (p.residuals - &at.residuals) / h)
+        });
+        let mut jacobian = DMatrix::zeros(at.residuals.len(), at.u.len());
+        for (j, column) in differences.into_iter().enumerate() {
+            if let Some(column) = column {
+                jacobian.set_column(j, &column);
+            }
+        }
+        jacobian
     }
 
     /// The unit-cube point of column `j`'s difference from `u`, and its step
@@ -456,29 +467,6 @@ impl RefineProblem<'_> {
         let h = if u[j] + STEP <= 1.0 { STEP } else { -STEP };
         u[j] += h;
         (u, h)
-    }
-
-    /// The Jacobian with the given columns by forward differences (a solve
-    /// each, in parallel); the others zero.
-    fn solved_columns(
-        &self,
-        space: &DesignSpace,
-        base: &Design,
-        at: &Iterate,
-        columns: &[usize],
-    ) -> DMatrix<f64> {
-        let differences = map_in_threads(columns, self.threads, &|&j| {
-            let (u, h) = Self::stepped(&at.u, j);
-            self.evaluate(space, base, u, &at.simulation)
-                .map(|p| (p.residuals - &at.residuals) / h)
-        });
-        let mut jacobian = DMatrix::zeros(at.residuals.len(), at.u.len());
-        for (&j, column) in columns.iter().zip(differences) {
-            if let Some(column) = column {
-                jacobian.set_column(j, &column);
-            }
-        }
-        jacobian
     }
 
     /// The Jacobian at `at` from linearised responses (`fe::sensitivity`):
@@ -491,8 +479,11 @@ impl RefineProblem<'_> {
         base: &Design,
         at: &Iterate,
     ) -> Option<DMatrix<f64>> {
-        let designs: Vec<Design> = (0..at.u.len())
-            .map(|j| self.design_at(space, base, &Self::stepped(&at.u, j).0))
+        let (points, steps): (Vec<Vec<f64>>, Vec<f64>) =
+            (0..at.u.len()).map(|j| Self::stepped(&at.u, j)).unzip();
+        let designs: Vec<Design> = points
+            .iter()
+            .map(|u| self.design_at(space, base, u))
             .collect();
         let current = self.design_at(space, base, &at.u);
         let centrelines =
@@ -500,8 +491,7 @@ impl RefineProblem<'_> {
         // The residuals without the correction, which differences cancel.
         let here = self.residuals(&at.simulation.centreline)?;
         let mut jacobian = DMatrix::zeros(at.residuals.len(), at.u.len());
-        for (j, centreline) in centrelines.iter().enumerate() {
-            let h = Self::stepped(&at.u, j).1;
+        for (j, (centreline, h)) in centrelines.iter().zip(steps).enumerate() {
             if let Some(r) = centreline.as_ref().and_then(|c| self.residuals(c)) {
                 jacobian.set_column(j, &((r - &here) / h));
             }
