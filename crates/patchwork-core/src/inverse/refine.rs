@@ -623,7 +623,7 @@ mod tests {
     /// The linearised Jacobian (one factorisation of the tangent,
     /// `fe::sensitivity`) against forward differences by solves at `STEP`,
     /// on a one-patch balloon with a free length: every column within 5 %
-    /// (measured 0.4–3 %, the most in X and Y where the forward differences
+    /// (measured 0.04–3 %, the most in X and Y where the forward differences
     /// cross mesh lines, as above).
     #[test]
     fn the_linearised_jacobian_agrees_with_forward_differences() {
