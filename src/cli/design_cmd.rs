@@ -295,6 +295,9 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
     );
     s.push_str(&refine_line("refine:      ", r.refine.as_ref()));
     s.push_str(&refine_line("final refine:", r.final_refine.as_ref()));
+    if let Some(why) = &r.final_refine_skipped {
+        s.push_str(&format!("final refine: not run: {why}\n"));
+    }
     for hit in &r.at_limits {
         let note = if hit.beyond {
             "beyond: the range was widened to hold KSA's seed"

@@ -8,11 +8,13 @@
 //! error does not count against the pipeline here.
 
 use std::sync::atomic::AtomicBool;
+use std::time::Duration;
 
 use patchwork_core::Curve;
 use patchwork_core::cmaes::Termination;
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::newton::NewtonOptions;
 use patchwork_core::fe::{SimulateOptions, simulate};
 use patchwork_core::inverse::{DesignRequest, FinalRefine, Stage, assess, design};
 
@@ -280,6 +282,7 @@ fn a_final_refine_goes_on_on_the_finest_model() {
         final_refine: Some(FinalRefine {
             mesh: finest,
             staging_solves: 25,
+            newton: NewtonOptions::default(),
         }),
         ..request
     };
@@ -309,6 +312,45 @@ fn a_final_refine_goes_on_on_the_finest_model() {
         "{last:?}"
     );
     assert!(outcome.metrics.shape_error_percent < 0.1, "{last:?}");
+}
+
+/// A final refine whose model cannot solve the refine's result (here: its
+/// solves are given no time at all) does not lose the run: the refine's
+/// result stands, verified on the model it was refined on, and the outcome
+/// says why the final refine did not run.
+#[test]
+fn a_final_refine_that_cannot_start_leaves_the_refines_result() {
+    let finest = MeshSpec::uniform(1.0);
+    let staging = MeshSpec::uniform(2.0);
+    let (request, target) = two_model_round_trip(finest, staging);
+    let request = DesignRequest {
+        budget: 30,
+        refine_budget: 20,
+        final_refine: Some(FinalRefine {
+            mesh: finest,
+            staging_solves: 10,
+            newton: NewtonOptions {
+                time_limit: Duration::ZERO,
+                ..NewtonOptions::default()
+            },
+        }),
+        ..request
+    };
+    let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    let why = outcome.final_refine_skipped.as_deref().expect("a reason");
+    println!("{why}");
+    assert!(why.contains("1 mm model could not solve"), "{why}");
+    assert!(why.contains("time"), "{why}");
+    assert!(outcome.final_refine.is_none());
+    let staged = outcome.refine.expect("the refine ran");
+    assert!(staged.solves <= 10, "{staged:?}");
+    assert_eq!(outcome.verified_on, staging);
+    assert!(
+        (staged.shape_error_after_percent - outcome.metrics.shape_error_percent).abs() < 1e-9,
+        "{staged:?} against {:?}",
+        outcome.metrics
+    );
+    assert!(outcome.metrics.shape_error_percent.is_finite());
 }
 
 /// With a patience of one evaluation, the first generation that does not

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::pipeline::{DesignRequest, FinalRefine};
 use crate::fe::mesh::MeshSpec;
+use crate::fe::newton::NewtonOptions;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -113,6 +114,7 @@ impl Fidelity {
             Fidelity::Standard | Fidelity::Fine => Some(FinalRefine {
                 mesh: MeshSpec::uniform(0.5),
                 staging_solves: Fidelity::Draft.refine_budget(),
+                newton: NewtonOptions::default(),
             }),
             Fidelity::Draft => None,
         }

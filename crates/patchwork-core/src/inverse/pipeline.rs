@@ -18,6 +18,7 @@ use crate::cmaes::{Bounds, Optimizer, RunOptions, Termination};
 use crate::curve::{Curve, dtw, shape_error};
 use crate::design::{Design, DesignError, Patch};
 use crate::fe::mesh::MeshSpec;
+use crate::fe::newton::NewtonOptions;
 use crate::fe::tube_theory::inflate_tube;
 use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate_from};
 use crate::ksa::{KsaError, KsaParams, Stretch, ksa};
@@ -97,10 +98,15 @@ pub struct DesignRequest {
 /// The final refine: Levenberg–Marquardt on the shape error on `mesh`, from
 /// the result of the refine on the verification model, which may spend at
 /// most `staging_solves` of the refine budget (the final one the rest).
+/// `newton` limits its model's solves (the presets: the default). If that
+/// model cannot solve the refine's result, the run does not fail: the
+/// refine's result stands, verified on its own model, and the outcome says
+/// why (`DesignOutcome::final_refine_skipped`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FinalRefine {
     pub mesh: MeshSpec,
     pub staging_solves: usize,
+    pub newton: NewtonOptions,
 }
 
 /// Where the search starts.
@@ -263,8 +269,12 @@ pub struct DesignOutcome {
     /// What the refine did; none when it did not run.
     pub refine: Option<RefineSummary>,
     /// What the final refine on the finest model did (standard, fine); none
-    /// when the request has none.
+    /// when the request has none, or when it could not start.
     pub final_refine: Option<RefineSummary>,
+    /// Why a requested final refine did not run: its model could not solve
+    /// the refine's result. The design, simulation and metrics are then the
+    /// refine's, on `verified_on`.
+    pub final_refine_skipped: Option<String>,
     /// The mesh of `simulation`, on which `metrics` were taken: the final
     /// refine's, the correction's (when the refine ran corrected) or the
     /// verification model's.
@@ -606,14 +616,30 @@ pub fn design_resumable(
         }
     }
     let mut final_refine_summary = None;
-    if let Some(last) = request.final_refine {
+    let mut final_refine_skipped = None;
+    // The final refine starts from the refine's result solved on its model;
+    // if that solve fails, the refine's result stands (the job is not lost).
+    let final_start = request.final_refine.and_then(|last| {
         let finest = SimulateOptions {
             mesh: last.mesh,
             rings: request.rings,
+            newton: last.newton,
             ..SimulateOptions::default()
         };
-        simulation =
-            simulate_from(&best, &finest, Some(&simulation)).map_err(DesignRunError::Verify)?;
+        match simulate_from(&best, &finest, Some(&simulation)) {
+            Ok(start) => Some((last, finest, start)),
+            Err(error) => {
+                final_refine_skipped = Some(format!(
+                    "the {} mm model could not solve the refine's result ({error}); \
+                     the design is the refine's, verified on its {} mm model",
+                    last.mesh.element_mm, verified_on.element_mm
+                ));
+                None
+            }
+        }
+    });
+    if let Some((last, finest, start)) = final_start {
+        simulation = start;
         verified_on = last.mesh;
         let done = refine_summary.map_or(0, |r| r.solves);
         let budget = request.refine_budget - done;
@@ -655,6 +681,7 @@ pub fn design_resumable(
         termination,
         refine: refine_summary,
         final_refine: final_refine_summary,
+        final_refine_skipped,
         verified_on,
         elapsed: Duration::from_secs_f64(elapsed()),
     })

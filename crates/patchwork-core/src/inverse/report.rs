@@ -44,6 +44,11 @@ pub struct DesignReport {
     /// 0.5 mm), from the refine's result; absent when the run had none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub final_refine: Option<RefineSummary>,
+    /// Why the run's final refine did not run (its model could not solve
+    /// the refine's result; the design is then the refine's); absent when
+    /// it ran or the run had none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub final_refine_skipped: Option<String>,
     pub seed: u64,
     pub profiles: Profiles,
     /// Patch sizes and angles on (or beyond) a fabrication limit.
@@ -74,6 +79,7 @@ impl DesignReport {
             termination: outcome.termination,
             refine: outcome.refine,
             final_refine: outcome.final_refine,
+            final_refine_skipped: outcome.final_refine_skipped.clone(),
             seed,
             profiles: outcome.profiles.clone(),
             at_limits: outcome.at_limits.clone(),
