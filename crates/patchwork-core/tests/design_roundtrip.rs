@@ -339,7 +339,11 @@ fn a_final_refine_that_cannot_start_leaves_the_refines_result() {
     let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {}).unwrap();
     let why = outcome.final_refine_skipped.as_deref().expect("a reason");
     println!("{why}");
-    assert!(why.contains("1 mm model could not solve"), "{why}");
+    assert!(
+        why.contains("the uniform 1 mm model could not solve"),
+        "{why}"
+    );
+    assert!(why.contains("verified on its uniform 2 mm model"), "{why}");
     assert!(why.contains("time"), "{why}");
     assert!(outcome.final_refine.is_none());
     let staged = outcome.refine.expect("the refine ran");

@@ -77,6 +77,26 @@ impl MeshSpec {
     }
 }
 
+/// "uniform 0.5 mm", "graded 0.5 mm (bare stretches 4 mm)", with ", N
+/// around" when the cross-section is set apart from the element size: how
+/// messages name a model.
+impl std::fmt::Display for MeshSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.straight_mm {
+            Some(straight) => write!(
+                f,
+                "graded {} mm (bare stretches {straight} mm)",
+                self.element_mm
+            )?,
+            None => write!(f, "uniform {} mm", self.element_mm)?,
+        }
+        match self.around {
+            Some(n) => write!(f, ", {n} around"),
+            None => Ok(()),
+        }
+    }
+}
+
 /// A surface triangle mesh of the closed-end tube.
 #[derive(Debug, Clone)]
 pub struct TubeMesh {
@@ -248,5 +268,27 @@ fn band(triangles: &mut Vec<[usize; 3]>, lower: usize, upper: usize, around: usi
             triangles.push([a, b, d]);
             triangles.push([b, c, d]);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_mesh_spec_names_itself() {
+        assert_eq!(MeshSpec::uniform(0.5).to_string(), "uniform 0.5 mm");
+        assert_eq!(
+            MeshSpec::graded(0.5, 4.0).to_string(),
+            "graded 0.5 mm (bare stretches 4 mm)"
+        );
+        let search = MeshSpec {
+            around: Some(16),
+            ..MeshSpec::graded(3.0, 6.0)
+        };
+        assert_eq!(
+            search.to_string(),
+            "graded 3 mm (bare stretches 6 mm), 16 around"
+        );
     }
 }

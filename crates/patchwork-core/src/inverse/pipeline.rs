@@ -630,9 +630,9 @@ pub fn design_resumable(
             Ok(start) => Some((last, finest, start)),
             Err(error) => {
                 final_refine_skipped = Some(format!(
-                    "the {} mm model could not solve the refine's result ({error}); \
-                     the design is the refine's, verified on its {} mm model",
-                    last.mesh.element_mm, verified_on.element_mm
+                    "the {} model could not solve the refine's result ({error}); \
+                     the design is the refine's, verified on its {verified_on} model",
+                    last.mesh
                 ));
                 None
             }
