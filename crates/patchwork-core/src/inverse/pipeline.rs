@@ -619,7 +619,8 @@ pub fn design_resumable(
     let mut final_refine_skipped = None;
     // The final refine starts from the refine's result solved on its model;
     // if that solve fails, the refine's result stands (the job is not lost).
-    let final_start = request.final_refine.and_then(|last| {
+    let mut final_start = None;
+    if let Some(last) = request.final_refine {
         let finest = SimulateOptions {
             mesh: last.mesh,
             rings: request.rings,
@@ -627,17 +628,16 @@ pub fn design_resumable(
             ..SimulateOptions::default()
         };
         match simulate_from(&best, &finest, Some(&simulation)) {
-            Ok(start) => Some((last, finest, start)),
+            Ok(start) => final_start = Some((last, finest, start)),
             Err(error) => {
                 final_refine_skipped = Some(format!(
                     "the {} model could not solve the refine's result ({error}); \
                      the design is the refine's, verified on its {verified_on} model",
                     last.mesh
-                ));
-                None
+                ))
             }
         }
-    });
+    }
     if let Some((last, finest, start)) = final_start {
         simulation = start;
         verified_on = last.mesh;
