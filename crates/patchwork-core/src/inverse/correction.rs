@@ -31,8 +31,8 @@
 //! instead of the target — in a one-patch round trip (2 mm model, 1 mm
 //! correction) X moved by 46° and the finer model's error rose 0.32 → 0.49 %.
 //! Measured on the Hilbert curve (draft, BENCHMARKS.md, medians of three):
-//! 0.70 % → 0.15 % on the uniform 0.5 mm model for three graded 0.5 mm
-//! solves of about 2 s. The rounds share one Jacobian: the correction is a
+//! 0.33 % → 0.13 % on the uniform 0.5 mm model for four graded 0.5 mm
+//! solves of about 2 s (three rounds; with two, 0.14 %). The rounds share one Jacobian: the correction is a
 //! constant, so it does not change the residuals' derivatives.
 
 use std::sync::atomic::Ordering;

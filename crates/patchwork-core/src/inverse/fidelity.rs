@@ -100,8 +100,9 @@ impl Fidelity {
     /// The finer model that corrects the refine and verifies its result
     /// (`correction.rs`): graded 0.5 mm (fine under patches and at the ends,
     /// 4 mm bare stretches), in every preset. On the Hilbert curve the
-    /// correction takes draft from 0.70 % to 0.15 % on the uniform 0.5 mm
-    /// model for three finer solves (medians of three, BENCHMARKS.md).
+    /// correction takes draft from 0.33 % to 0.13 % on the uniform 0.5 mm
+    /// model for four finer solves (three rounds; medians of three,
+    /// BENCHMARKS.md).
     pub fn correction_mesh(self) -> Option<MeshSpec> {
         Some(MeshSpec::graded(0.5, 4.0))
     }
