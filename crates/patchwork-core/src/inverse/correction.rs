@@ -32,8 +32,9 @@
 //! correction) X moved by 46° and the finer model's error rose 0.32 → 0.49 %.
 //! Measured on the Hilbert curve (draft, BENCHMARKS.md, medians of three):
 //! 0.33 % → 0.13 % on the uniform 0.5 mm model for four graded 0.5 mm
-//! solves of about 2 s (three rounds; with two, 0.14 %). The rounds share one Jacobian: the correction is a
-//! constant, so it does not change the residuals' derivatives.
+//! solves of about 2 s (three rounds; with two, 0.14 %). The rounds share
+//! one Jacobian: the correction is a constant, so it does not change the
+//! residuals' derivatives.
 
 use std::sync::atomic::Ordering;
 
@@ -48,10 +49,11 @@ use crate::fe::{SimulateOptions, Simulation, simulate_from};
 /// budget); a round that does not lower the finer model's shape error ends
 /// them. Three since the fourteenth session: each round takes the
 /// correction afresh at the last round's result, and a third round took
-/// draft (single runs, seed 1) from 0.145 to 0.134 % on the Hilbert curve,
-/// 0.648 to 0.592 % on the pancake and 1.231 to 1.022 % on the spring for
-/// one more finer solve (about 2 s); a fourth bought nothing (0.137 and
-/// 0.582 %). Medians of three in BENCHMARKS.md ("Fourteenth session").
+/// draft (medians of three, BENCHMARKS.md "Fourteenth session") from 0.14
+/// to 0.13 % on the Hilbert curve, 0.65 to 0.59 % on the pancake, 1.23 to
+/// 1.10 % on the spring and 1.89 to 1.72 % on the trefoil, for one more
+/// finer solve (about 2 s); in single runs a fourth bought nothing (Hilbert
+/// 0.134 → 0.137 %, pancake 0.592 → 0.582 %).
 pub const CORRECTION_ROUNDS: usize = 3;
 
 /// A design simulated on the finer model, with its residuals there (their
