@@ -8,6 +8,12 @@
 //! K + αI (Levenberg shift α grown until the factorisation succeeds, then decayed),
 //! which is still a descent direction. Converged states are tested once more with
 //! α = 0: success means a *stable* equilibrium.
+//!
+//! A step is kept only if the tangent at its end factorises with at most ten
+//! times the step's own shift (the definiteness guard, [`guard_definiteness`]);
+//! otherwise it is halved. Without the guard, a full step from a carried or
+//! kinematic start on a 0.5 mm mesh lands where the wall at a patch end
+//! wrinkles, and Newton creeps under a huge shift for a dozen iterations.
 
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -28,6 +34,10 @@ pub struct NewtonOptions {
     /// Converged when |∇Π| ≤ tolerance · |P ∂V/∂x| (the pressure load's size).
     pub tolerance: f64,
     pub time_limit: Duration,
+    /// Halve a step whose end needs a much larger shift than its start
+    /// ([`guard_definiteness`]). On by default; off only to measure what it
+    /// saves.
+    pub definiteness_guard: bool,
 }
 
 impl Default for NewtonOptions {
@@ -36,6 +46,7 @@ impl Default for NewtonOptions {
             max_iterations: 60,
             tolerance: 1e-9,
             time_limit: Duration::from_secs(60),
+            definiteness_guard: true,
         }
     }
 }
@@ -172,28 +183,21 @@ impl Solver {
     ) -> Result<SolveStats, SolveError> {
         let started = Instant::now();
         let mut u = model.unknowns(x);
-        let n = self.pattern.dimension();
-        let mut gradient = vec![0.0; n];
-        let mut values = Vec::new();
         let scale = load_scale(model, x).max(1e-12);
         let mut shift: f64 = 0.0;
         let mut stats = SolveStats::default();
         let mut residual = f64::INFINITY;
         let mut factor = self.pattern.factor();
         let mut residuals = Vec::new();
+        let t0 = Instant::now();
+        let mut here =
+            Linearisation::at(model, sections, &u).ok_or(SolveError::InadmissibleStart)?;
+        stats.assembly_time += t0.elapsed();
+        // The shift with which `factor` already holds K + αI at `here` (the
+        // definiteness guard factorised it while accepting the step).
+        let mut factored_with: Option<f64> = None;
         for iteration in 0..=options.max_iterations * EXTENSION + QUADRATIC_GRACE {
-            let t0 = Instant::now();
-            let potential = model
-                .assemble(
-                    &model.positions(&u),
-                    sections,
-                    0.0,
-                    &mut gradient,
-                    &mut values,
-                )
-                .ok_or(SolveError::InadmissibleStart)?;
-            stats.assembly_time += t0.elapsed();
-            residual = norm(&gradient) / scale;
+            residual = norm(&here.gradient) / scale;
             if !residual.is_finite() {
                 return Err(SolveError::InadmissibleStart);
             }
@@ -202,7 +206,7 @@ impl Solver {
             if residual <= options.tolerance {
                 stats.iterations = iteration;
                 stats.residual = residual;
-                stats.stable = factor.factorise(&values);
+                stats.stable = factored_with == Some(0.0) || factor.factorise(&here.unshifted());
                 stats.factor_time += t1.elapsed();
                 *x = model.positions(&u);
                 return Ok(stats);
@@ -216,11 +220,22 @@ impl Solver {
                     residual,
                 });
             }
-            let stiffness = stiffness_scale(&values);
-            let (used_shift, attempts) =
-                factor_with_shift(&mut factor, &mut values, shift, stiffness, residual)?;
+            let stiffness = here.stiffness;
+            let used_shift = match factored_with.take() {
+                Some(used) => used,
+                None => {
+                    let (used, attempts) = factor_with_shift(
+                        &mut factor,
+                        &mut here.values,
+                        shift,
+                        stiffness,
+                        f64::INFINITY,
+                    );
+                    stats.factorisations += attempts;
+                    used.map_err(|shift| SolveError::Factorisation { shift, residual })?
+                }
+            };
             stats.factor_time += t1.elapsed();
-            stats.factorisations += attempts;
             let t2 = Instant::now();
             // Decay the shift; once negligible, try plain Newton again.
             shift = if used_shift / 10.0 > SMALLEST_SHIFT * stiffness {
@@ -228,43 +243,178 @@ impl Solver {
             } else {
                 0.0
             };
-            let mut step: Vec<f64> = gradient.iter().map(|g| -g).collect();
+            let mut step: Vec<f64> = here.gradient.iter().map(|g| -g).collect();
             factor.solve_in_place(&mut step);
             stats.substitution_time += t2.elapsed();
             let t3 = Instant::now();
-            let slope: f64 = step.iter().zip(&gradient).map(|(s, g)| s * g).sum();
+            let slope: f64 = step.iter().zip(&here.gradient).map(|(s, g)| s * g).sum();
             if slope.is_nan() || slope >= 0.0 {
                 return Err(SolveError::LineSearch {
                     iterations: iteration,
                     residual,
                 });
             }
-            let searched = line_search(model, sections, &u, &step, potential, slope);
+            let searched = line_search(model, sections, &u, &step, here.potential, slope);
             stats.line_search_time += t3.elapsed();
-            match searched {
-                Some(next) => u = next,
+            let Some(next) = searched else {
                 // Converged to round-off: the energy can no longer resolve the
                 // step, and the residual is within 1000× of the tolerance.
-                None if residual <= 1e3 * options.tolerance => {
+                if residual <= 1e3 * options.tolerance {
                     stats.iterations = iteration;
                     stats.residual = residual;
-                    stats.stable = factor.factorise(&values_without_shift(&mut values, n));
+                    stats.stable = factor.factorise(&here.unshifted());
                     *x = model.positions(&u);
                     return Ok(stats);
                 }
-                None => {
-                    return Err(SolveError::LineSearch {
-                        iterations: iteration,
-                        residual,
-                    });
-                }
+                return Err(SolveError::LineSearch {
+                    iterations: iteration,
+                    residual,
+                });
+            };
+            let ceiling = if options.definiteness_guard {
+                (10.0 * used_shift).max(GUARD_SHIFT * stiffness)
+            } else {
+                f64::INFINITY
+            };
+            let guarded = guard_definiteness(
+                model,
+                sections,
+                &mut factor,
+                (&u, here.potential),
+                next,
+                (shift, ceiling),
+                &mut stats,
+            )
+            .ok_or(SolveError::LineSearch {
+                iterations: iteration,
+                residual,
+            })?;
+            if guarded.factored_with.is_none() && ceiling.is_finite() {
+                // Every shift up to the ceiling failed there: start above it.
+                shift = shift.max(ceiling);
             }
+            (u, here, factored_with) = (guarded.u, guarded.here, guarded.factored_with);
         }
         Err(SolveError::NotConverged {
             iterations: residuals.len().saturating_sub(1),
             residual,
         })
     }
+}
+
+/// Π, ∇Π and the triplets of K (shift slots last) at one state.
+struct Linearisation {
+    potential: f64,
+    gradient: Vec<f64>,
+    values: Vec<f64>,
+    /// Mean magnitude of K's entries, unshifted: the scale of shifts.
+    stiffness: f64,
+}
+
+impl Linearisation {
+    /// `None` outside a material's domain.
+    fn at(model: &Model, sections: &[Section], u: &[f64]) -> Option<Linearisation> {
+        let mut gradient = vec![0.0; model.dof_count];
+        let mut values = Vec::new();
+        let potential = model.assemble(
+            &model.positions(u),
+            sections,
+            0.0,
+            &mut gradient,
+            &mut values,
+        )?;
+        let stiffness = stiffness_scale(&values);
+        Some(Linearisation {
+            potential,
+            gradient,
+            values,
+            stiffness,
+        })
+    }
+
+    /// K's triplets with the shift slots zeroed.
+    fn unshifted(&mut self) -> Vec<f64> {
+        values_without_shift(&mut self.values, self.gradient.len())
+    }
+}
+
+/// A state the guard accepted, linearised; `factored_with` is the shift of
+/// the factorisation of K + αI it left in the factor, none if every shift up
+/// to the ceiling failed there.
+struct Guarded {
+    u: Vec<f64>,
+    here: Linearisation,
+    factored_with: Option<f64>,
+}
+
+/// The largest shift, relative to the mean tangent entry, that the
+/// definiteness guard lets a step's end need after a step taken without one
+/// (after a shifted step: ten times that shift).
+const GUARD_SHIFT: f64 = 1e-3;
+
+/// Halvings of a step the definiteness guard tries before it takes the line
+/// search's step as it was.
+const GUARD_HALVINGS: usize = 4;
+
+/// The definiteness guard. A full Newton step from a state where K is
+/// positive definite (or nearly) can land where K is strongly indefinite:
+/// from a carried or kinematic start on the Hilbert scene, the first step
+/// moves a node at a patch end by 1–24 mm, where a 0.5 mm element's wall
+/// then wrinkles, and Newton needs a shift of 10²–10³ times the mean tangent
+/// entry for the next 5–12 iterations, creeping like gradient descent until
+/// the shift has decayed (BENCHMARKS.md). The guard accepts the line
+/// search's point only if K there factorises with a shift up to `ceiling`
+/// (ten times the shift the step was taken with, at least [`GUARD_SHIFT`]);
+/// otherwise it halves the step, up to [`GUARD_HALVINGS`] times, keeping
+/// only points whose energy is below the start's. The factorisation it
+/// makes at the accepted point is the next iteration's, so a step that
+/// passes first time costs nothing extra. If no halving passes, the line
+/// search's point stands (the shifted iterations then take over).
+fn guard_definiteness(
+    model: &Model,
+    sections: &[Section],
+    factor: &mut TangentFactor,
+    (u, potential): (&[f64], f64),
+    next: Vec<f64>,
+    (shift, ceiling): (f64, f64),
+    stats: &mut SolveStats,
+) -> Option<Guarded> {
+    let allowance = 1e-11 * potential.abs();
+    let mut candidate = next.clone();
+    let mut first = None;
+    for halving in 0..=GUARD_HALVINGS {
+        let t = Instant::now();
+        let linearised = Linearisation::at(model, sections, &candidate);
+        stats.assembly_time += t.elapsed();
+        if let Some(mut here) = linearised.filter(|l| l.potential <= potential + allowance) {
+            let t = Instant::now();
+            let (used, attempts) =
+                factor_with_shift(factor, &mut here.values, shift, here.stiffness, ceiling);
+            stats.factorisations += attempts;
+            stats.factor_time += t.elapsed();
+            if let Ok(used) = used {
+                return Some(Guarded {
+                    u: candidate,
+                    here,
+                    factored_with: Some(used),
+                });
+            }
+            if halving == 0 {
+                first = Some(here);
+            }
+        }
+        candidate = u
+            .iter()
+            .zip(&candidate)
+            .map(|(a, b)| a + 0.5 * (b - a))
+            .collect();
+    }
+    // No halving passed: the line search's point stands.
+    first.map(|here| Guarded {
+        u: next,
+        here,
+        factored_with: None,
+    })
 }
 
 /// Empties the cache of tangent patterns, so that the next solve of every
@@ -346,31 +496,41 @@ const FIRST_SHIFT: f64 = 1e-4;
 /// zero: plain Newton is tried again.
 const SMALLEST_SHIFT: f64 = 1e-6;
 
-/// Factors K + αI, growing α from `start` until the factorisation succeeds;
-/// returns the α used and the number of attempts. The last `n` triplets of
-/// `values` are the diagonal shift slots.
+/// Factors K + αI, growing α from `start` (tenfold, from [`FIRST_SHIFT`]
+/// times `stiffness` if `start` is zero) until the factorisation succeeds or
+/// α would pass `ceiling`; returns the α used (or the last one tried, as the
+/// error) and the number of attempts. The last `n` triplets of `values` are
+/// the diagonal shift slots.
 fn factor_with_shift(
     factor: &mut TangentFactor,
     values: &mut [f64],
     start: f64,
     stiffness: f64,
-    residual: f64,
-) -> Result<(f64, usize), SolveError> {
+    ceiling: f64,
+) -> (Result<f64, f64>, usize) {
     let shift_slots = values.len() - factor.dimension();
     let mut shift = start;
-    for attempt in 1..=40 {
+    let mut tried = start;
+    for attempt in 0..MAX_SHIFT_ATTEMPTS {
+        if shift > ceiling {
+            return (Err(tried), attempt);
+        }
         values[shift_slots..].fill(shift);
         if factor.factorise(values) {
-            return Ok((shift, attempt));
+            return (Ok(shift), attempt + 1);
         }
+        tried = shift;
         shift = if shift == 0.0 {
             FIRST_SHIFT * stiffness
         } else {
             shift * 10.0
         };
     }
-    Err(SolveError::Factorisation { shift, residual })
+    (Err(tried), MAX_SHIFT_ATTEMPTS)
 }
+
+/// Shifts tried before a factorisation is given up.
+const MAX_SHIFT_ATTEMPTS: usize = 40;
 
 /// Backtracking (Armijo, c = 1e-4). Π is a sum of ~10⁴ element energies minus a
 /// large P·V, so its rounding noise is near 1e-12·|Π|; an allowance of

@@ -114,13 +114,6 @@ impl TangentPattern {
     }
 }
 
-impl TangentPattern {
-    /// Number of unknowns.
-    pub fn dimension(&self) -> usize {
-        self.n
-    }
-}
-
 impl TangentFactor<'_> {
     /// Number of unknowns.
     pub fn dimension(&self) -> usize {
