@@ -7,7 +7,7 @@
 //! (about five minutes with the default three runs; times are medians).
 //! `average` models cut elements by area average instead of the laminate.
 
-use patchwork_core::curve::{Point, ReferenceCurve};
+use patchwork_core::curve::ReferenceCurve;
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::section::CutElements;
@@ -31,13 +31,6 @@ fn label(m: &MeshSpec) -> String {
         text.push_str(&format!(", bare stretches {s} mm"));
     }
     text
-}
-
-fn largest_gap(a: &[Point], b: &[Point]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max)
 }
 
 fn study(name: &str, design: &Design, meshes: &[MeshSpec], runs: usize, cut_elements: CutElements) {
@@ -78,7 +71,7 @@ fn study(name: &str, design: &Design, meshes: &[MeshSpec], runs: usize, cut_elem
             sim.stats.iterations,
             times[times.len() / 2],
             sim.inflated_length_mm,
-            largest_gap(sim.centreline.points(), reference.centreline.points())
+            sim.centreline.largest_gap(&reference.centreline)
         );
     }
     println!(

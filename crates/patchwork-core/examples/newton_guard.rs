@@ -95,13 +95,7 @@ fn main() {
             );
         }
         if let [(.., Some(off)), (.., Some(on))] = &rows {
-            let gap = off
-                .centreline
-                .points()
-                .iter()
-                .zip(on.centreline.points())
-                .map(|(a, b)| (a - b).norm())
-                .fold(0.0, f64::max);
+            let gap = off.centreline.largest_gap(&on.centreline);
             println!("|  | largest centreline gap off/on: {gap:.2e} mm | | | |");
         }
     }

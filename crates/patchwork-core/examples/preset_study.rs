@@ -13,7 +13,8 @@
 //! `refine_mesh=search|MM|MM/MM` (the model the refine solves on: the search's
 //! own, or a uniform or graded mesh; default the preset's verification
 //! model), `patience=N` (the search's), `seeds=3`, `progress=1` (print every
-//! stage and generation).
+//! stage and generation), `warm=1` (the search's solves start from the best
+//! design's state instead of the kinematic estimate).
 
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -41,6 +42,7 @@ fn main() {
     let mut patience = None;
     let mut seeds = 3;
     let mut progress = false;
+    let mut warm = false;
     for arg in std::env::args().skip(1) {
         let (key, value) = arg.split_once('=').expect("arguments are key=value");
         let number = || value.parse::<f64>().expect("a number");
@@ -64,6 +66,7 @@ fn main() {
             "patience" => patience = Some(number() as usize),
             "seeds" => seeds = number() as u64,
             "progress" => progress = value == "1",
+            "warm" => warm = value == "1",
             _ => panic!("unknown setting {key}"),
         }
     }
@@ -78,6 +81,7 @@ fn main() {
         let mut request = DesignRequest {
             seed,
             threads: 2,
+            warm_starts: warm,
             budget: budget.unwrap_or(fidelity.budget()),
             ..DesignRequest::default()
         };

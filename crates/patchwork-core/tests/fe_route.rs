@@ -3,6 +3,7 @@
 //! compared with a full volume-controlled inflation from 5 kPa, across the
 //! plateau, to the same enclosed volume: same pressure, same shape.
 
+use patchwork_core::curve::largest_gap;
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::model::Model;
 use patchwork_core::fe::newton::NewtonOptions;
@@ -62,11 +63,7 @@ fn volume_controlled_inflation_reaches_the_direct_solution() {
         history.push(pressure * 1e3);
     }
     let kpa = pressure * 1e3;
-    let gap = x
-        .iter()
-        .zip(&direct.positions)
-        .map(|(a, b)| (a - b).norm())
-        .fold(0.0, f64::max);
+    let gap = largest_gap(&x, &direct.positions);
     // The path crosses the bare tube's pressure plateau (for this latex the
     // closed-form p(λ₁) peaks at 16.860 kPa and dips only to 16.858 kPa: an
     // almost flat stretch where pressure control has nearly no stiffness): a run

@@ -17,7 +17,7 @@ pub use differential::{Analysis, AnalysisOptions, DerivativeScheme, analyse};
 pub use dtw::dtw;
 pub use error::{CurveError, Location};
 pub use frames::{Frame, bishop_frames, frenet_frames};
-pub use polyline::Curve;
+pub use polyline::{Curve, largest_gap};
 pub use presets::{Preset, ReferenceCurve};
 pub use profile::interpolate;
 pub use read::{Units, points_from_json, read_curve, read_json, read_text};

@@ -77,6 +77,13 @@ impl Curve {
         &self.points
     }
 
+    /// The largest distance between corresponding points of this curve and
+    /// `other` (mm): for curves sampled alike, such as two centrelines of
+    /// the same balloon's rings. Extra points of the longer curve are ignored.
+    pub fn largest_gap(&self, other: &Curve) -> f64 {
+        largest_gap(&self.points, &other.points)
+    }
+
     /// Cumulative chord length at each point, starting at 0 (mm).
     pub fn arc_length(&self) -> &[f64] {
         &self.arc_length
@@ -166,6 +173,15 @@ pub(super) fn cumulative_length(points: &[Point]) -> Vec<f64> {
     s
 }
 
+/// The largest distance between corresponding points of `a` and `b` (mm);
+/// extra points of the longer list are ignored.
+pub fn largest_gap(a: &[Point], b: &[Point]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -236,6 +252,21 @@ mod tests {
             assert!((w[1] - w[0] - 1.0).abs() < 1e-12);
         }
         assert!(c.resample(2).is_err());
+    }
+
+    #[test]
+    fn largest_gap_is_the_farthest_pair() {
+        let a = Curve::from_points(vec![
+            p(0., 0., 0.),
+            p(1., 0., 0.),
+            p(2., 0., 0.),
+            p(3., 0., 0.),
+        ])
+        .unwrap();
+        let b = a.transformed(&nalgebra::Rotation3::identity(), &p(0., 0.5, 0.));
+        assert!((a.largest_gap(&b) - 0.5).abs() < 1e-15);
+        assert_eq!(a.largest_gap(&a), 0.0);
+        assert!((largest_gap(&a.points()[..2], &[p(0., 0., 2.)]) - 2.0).abs() < 1e-15);
     }
 
     #[test]

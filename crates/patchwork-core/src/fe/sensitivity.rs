@@ -135,20 +135,12 @@ mod tests {
         one.pop().flatten().expect("a linearised centreline")
     }
 
-    fn gap(a: &Curve, b: &Curve) -> f64 {
-        a.points()
-            .iter()
-            .zip(b.points())
-            .map(|(p, q)| (p - q).norm())
-            .fold(0.0, f64::max)
-    }
-
     /// The unchanged design's linearised centreline is its own.
     #[test]
     fn an_unchanged_design_keeps_its_centreline() {
         let (design, options, simulation) = scene();
         let centreline = linearised(&design, &simulation, &options, &design);
-        assert!(gap(&centreline, &simulation.centreline) < 1e-9);
+        assert!(centreline.largest_gap(&simulation.centreline) < 1e-9);
     }
 
     /// Against solves of the changed designs (warm-started, tolerance 1e-9):
@@ -171,9 +163,9 @@ mod tests {
                 let change = changed(&design, variable, scale * step);
                 let linear = linearised(&design, &simulation, &options, &change);
                 let solved = simulate_from(&change, &options, Some(&simulation)).unwrap();
-                let moved = gap(&solved.centreline, &simulation.centreline);
+                let moved = solved.centreline.largest_gap(&simulation.centreline);
                 assert!(moved > 1e-3, "variable {variable} moved {moved} mm");
-                gaps.push(gap(&linear, &solved.centreline) / moved);
+                gaps.push(linear.largest_gap(&solved.centreline) / moved);
             }
             errors.push(gaps);
         }
@@ -211,9 +203,9 @@ mod tests {
             let solved = simulate_from(&longer, &options, Some(&simulation)).unwrap();
             displacements.push((
                 added,
-                gap(&linear, &simulation.centreline),
-                gap(&solved.centreline, &simulation.centreline),
-                gap(&linear, &solved.centreline),
+                linear.largest_gap(&simulation.centreline),
+                solved.centreline.largest_gap(&simulation.centreline),
+                linear.largest_gap(&solved.centreline),
             ));
         }
         println!(
