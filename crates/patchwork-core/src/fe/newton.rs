@@ -196,6 +196,7 @@ impl Solver {
         // The shift with which `factor` already holds K + αI at `here` (the
         // definiteness guard factorised it while accepting the step).
         let mut factored_with: Option<f64> = None;
+        let mut guarding = options.definiteness_guard;
         for iteration in 0..=options.max_iterations * EXTENSION + QUADRATIC_GRACE {
             residual = norm(&here.gradient) / scale;
             if !residual.is_finite() {
@@ -271,7 +272,7 @@ impl Solver {
                     residual,
                 });
             };
-            let ceiling = if options.definiteness_guard {
+            let ceiling = if guarding {
                 (10.0 * used_shift).max(GUARD_SHIFT * stiffness)
             } else {
                 f64::INFINITY
@@ -290,8 +291,12 @@ impl Solver {
                 residual,
             })?;
             if guarded.factored_with.is_none() && ceiling.is_finite() {
-                // Every shift up to the ceiling failed there: start above it.
+                // Every shift up to the ceiling failed there, at every
+                // halving: start above it, and let the guard stand down for
+                // the rest of the solve, which has gone where halving does
+                // not help and each failed check costs factorisations.
                 shift = shift.max(ceiling);
+                guarding = false;
             }
             (u, here, factored_with) = (guarded.u, guarded.here, guarded.factored_with);
         }
@@ -366,10 +371,11 @@ const GUARD_HALVINGS: usize = 4;
 /// search's point only if K there factorises with a shift up to `ceiling`
 /// (ten times the shift the step was taken with, at least [`GUARD_SHIFT`]);
 /// otherwise it halves the step, up to [`GUARD_HALVINGS`] times, keeping
-/// only points whose energy is below the start's. The factorisation it
+/// only halved points whose energy is not above the start's. The factorisation it
 /// makes at the accepted point is the next iteration's, so a step that
 /// passes first time costs nothing extra. If no halving passes, the line
-/// search's point stands (the shifted iterations then take over).
+/// search's point stands (the shifted iterations then take over) and the
+/// solve goes on without the guard.
 fn guard_definiteness(
     model: &Model,
     sections: &[Section],
@@ -386,7 +392,10 @@ fn guard_definiteness(
         let t = Instant::now();
         let linearised = Linearisation::at(model, sections, &candidate);
         stats.assembly_time += t.elapsed();
-        if let Some(mut here) = linearised.filter(|l| l.potential <= potential + allowance) {
+        // The line search accepted its own point (by `Model::potential`,
+        // summed in another order); a halved one must not raise the energy.
+        let lowered = |l: &Linearisation| halving == 0 || l.potential <= potential + allowance;
+        if let Some(mut here) = linearised.filter(lowered) {
             let t = Instant::now();
             let (used, attempts) =
                 factor_with_shift(factor, &mut here.values, shift, here.stiffness, ceiling);

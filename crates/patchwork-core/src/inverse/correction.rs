@@ -32,7 +32,7 @@
 //! correction) X moved by 46° and the finer model's error rose 0.32 → 0.49 %.
 //! Measured on the Hilbert curve (draft, BENCHMARKS.md, medians of three):
 //! 0.33 % → 0.13 % on the uniform 0.5 mm model for four graded 0.5 mm
-//! solves of about 2 s (three rounds; with two, 0.14 %). The rounds share
+//! solves of 1–2.5 s (three rounds; with two, 0.14 %). The rounds share
 //! one Jacobian: the correction is a constant, so it does not change the
 //! residuals' derivatives.
 
@@ -53,7 +53,7 @@ use crate::fe::{SimulateOptions, Simulation, simulate_from};
 /// draft (medians of three, BENCHMARKS.md "Fourteenth session") from 0.14
 /// to 0.13 % on the Hilbert curve, 0.65 to 0.59 % on the pancake, 1.23 to
 /// 1.10 % on the spring and 1.89 to 1.72 % on the trefoil, for one more
-/// finer solve (about 2 s); in single runs a fourth bought nothing (Hilbert
+/// finer solve (1–2.5 s); in single runs a fourth bought nothing (Hilbert
 /// 0.134 → 0.137 %, pancake 0.592 → 0.582 %).
 pub const CORRECTION_ROUNDS: usize = 3;
 
@@ -181,7 +181,7 @@ impl RefineProblem<'_> {
 /// second by the difference between the two models; each is judged by the
 /// largest gap between centrelines: the change as the verification model
 /// saw it, the models' difference as it was before the round. On the Hilbert
-/// curve (draft) the first refine round moves the centreline by 37 mm
+/// curve (draft without the search, single runs) the first refine round moves the centreline by 37 mm
 /// against a models' gap of 6 mm, the later ones by 8 and 1.5 mm against
 /// 11 mm; the finer solves started by this rule take 13, 8 and 5 Newton
 /// iterations where the carried states took 13 each (from the finer state
