@@ -371,11 +371,11 @@ const GUARD_HALVINGS: usize = 4;
 /// search's point only if K there factorises with a shift up to `ceiling`
 /// (ten times the shift the step was taken with, at least [`GUARD_SHIFT`]);
 /// otherwise it halves the step, up to [`GUARD_HALVINGS`] times, keeping
-/// only halved points whose energy is not above the start's. The factorisation it
-/// makes at the accepted point is the next iteration's, so a step that
-/// passes first time costs nothing extra. If no halving passes, the line
-/// search's point stands (the shifted iterations then take over) and the
-/// solve goes on without the guard.
+/// only halved points whose energy is not above the start's. The
+/// factorisation it makes at the accepted point is the next iteration's, so
+/// a step that passes first time costs nothing extra. If no halving passes,
+/// the line search's point stands (the shifted iterations then take over)
+/// and the solve goes on without the guard.
 fn guard_definiteness(
     model: &Model,
     sections: &[Section],

@@ -180,15 +180,16 @@ impl RefineProblem<'_> {
 /// nearer the answer. The first is off by the round's change of design, the
 /// second by the difference between the two models; each is judged by the
 /// largest gap between centrelines: the change as the verification model
-/// saw it, the models' difference as it was before the round. On the Hilbert
-/// curve (draft without the search, single runs) the first refine round moves the centreline by 37 mm
-/// against a models' gap of 6 mm, the later ones by 8 and 1.5 mm against
-/// 11 mm; the finer solves started by this rule take 13, 8 and 5 Newton
-/// iterations where the carried states took 13 each (from the finer state
-/// the first took 18). On the pancake and the spring every round moves the
-/// centreline by more than the gap (19–375 mm), and the rule keeps the carried
-/// state, from which the spring's solves take 14 iterations against 49–62
-/// from its last finer state (BENCHMARKS.md).
+/// saw it, the models' difference as it was before the round. On the
+/// Hilbert curve (draft without the search, single runs) the first refine
+/// round moves the centreline by 37 mm against a models' gap of 6 mm, the
+/// later ones by 8 and 1.5 mm against 11 mm; the finer solves started by
+/// this rule take 13, 8 and 5 Newton iterations where the carried states
+/// took 13 each (from the finer state the first took 18). On the pancake
+/// and the spring every round moves the centreline by more than the gap
+/// (19–375 mm), and the rule keeps the carried state, from which the
+/// spring's solves take 14 iterations against 49–62 from its last finer
+/// state (BENCHMARKS.md).
 fn nearest_start<'a>(
     finer: &'a Simulation,
     coarse_before: &Curve,
