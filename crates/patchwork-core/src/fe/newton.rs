@@ -290,7 +290,14 @@ impl Solver {
                 iterations: iteration,
                 residual,
             })?;
-            if guarded.factored_with.is_none() && ceiling.is_finite() {
+            if let Err(tried) = guarded.factored_with {
+                if !ceiling.is_finite() {
+                    // No shift at all made K + αI positive definite.
+                    return Err(SolveError::Factorisation {
+                        shift: tried,
+                        residual,
+                    });
+                }
                 // Every shift up to the ceiling failed there, at every
                 // halving: start above it, and let the guard stand down for
                 // the rest of the solve, which has gone where halving does
@@ -298,7 +305,7 @@ impl Solver {
                 shift = shift.max(ceiling);
                 guarding = false;
             }
-            (u, here, factored_with) = (guarded.u, guarded.here, guarded.factored_with);
+            (u, here, factored_with) = (guarded.u, guarded.here, guarded.factored_with.ok());
         }
         Err(SolveError::NotConverged {
             iterations: residuals.len().saturating_sub(1),
@@ -344,12 +351,12 @@ impl Linearisation {
 }
 
 /// A state the guard accepted, linearised; `factored_with` is the shift of
-/// the factorisation of K + αI it left in the factor, none if every shift up
-/// to the ceiling failed there.
+/// the factorisation of K + αI it left in the factor, or, if every shift up
+/// to the ceiling failed there, the last one tried.
 struct Guarded {
     u: Vec<f64>,
     here: Linearisation,
-    factored_with: Option<f64>,
+    factored_with: Result<f64, f64>,
 }
 
 /// The largest shift, relative to the mean tangent entry, that the
@@ -388,7 +395,14 @@ fn guard_definiteness(
     let allowance = 1e-11 * potential.abs();
     let mut candidate = next.clone();
     let mut first = None;
-    for halving in 0..=GUARD_HALVINGS {
+    // Without a ceiling (the guard off) the line search's point is taken as
+    // it is, with whatever shift it needs.
+    let halvings = if ceiling.is_finite() {
+        GUARD_HALVINGS
+    } else {
+        0
+    };
+    for halving in 0..=halvings {
         let t = Instant::now();
         let linearised = Linearisation::at(model, sections, &candidate);
         stats.assembly_time += t.elapsed();
@@ -405,11 +419,11 @@ fn guard_definiteness(
                 return Some(Guarded {
                     u: candidate,
                     here,
-                    factored_with: Some(used),
+                    factored_with: Ok(used),
                 });
             }
             if halving == 0 {
-                first = Some(here);
+                first = Some((here, used));
             }
         }
         candidate = u
@@ -419,10 +433,10 @@ fn guard_definiteness(
             .collect();
     }
     // No halving passed: the line search's point stands.
-    first.map(|here| Guarded {
+    first.map(|(here, tried)| Guarded {
         u: next,
         here,
-        factored_with: None,
+        factored_with: tried,
     })
 }
 
