@@ -392,51 +392,53 @@ fn guard_definiteness(
     (shift, ceiling): (f64, f64),
     stats: &mut SolveStats,
 ) -> Option<Guarded> {
-    let allowance = 1e-11 * potential.abs();
-    let mut candidate = next.clone();
-    let mut first = None;
-    // Without a ceiling (the guard off) the line search's point is taken as
-    // it is, with whatever shift it needs.
-    let halvings = if ceiling.is_finite() {
-        GUARD_HALVINGS
-    } else {
-        0
-    };
-    for halving in 0..=halvings {
+    // K at `point`, factorised with a shift up to the ceiling.
+    let mut test = |point: &[f64]| {
         let t = Instant::now();
-        let linearised = Linearisation::at(model, sections, &candidate);
+        let mut here = Linearisation::at(model, sections, point)?;
         stats.assembly_time += t.elapsed();
-        // The line search accepted its own point (by `Model::potential`,
-        // summed in another order); a halved one must not raise the energy.
-        let lowered = |l: &Linearisation| halving == 0 || l.potential <= potential + allowance;
-        if let Some(mut here) = linearised.filter(lowered) {
-            let t = Instant::now();
-            let (used, attempts) =
-                factor_with_shift(factor, &mut here.values, shift, here.stiffness, ceiling);
-            stats.factorisations += attempts;
-            stats.factor_time += t.elapsed();
-            if let Ok(used) = used {
-                return Some(Guarded {
-                    u: candidate,
-                    here,
-                    factored_with: Ok(used),
-                });
-            }
-            if halving == 0 {
-                first = Some((here, used));
-            }
-        }
-        candidate = u
+        let t = Instant::now();
+        let (used, attempts) =
+            factor_with_shift(factor, &mut here.values, shift, here.stiffness, ceiling);
+        stats.factorisations += attempts;
+        stats.factor_time += t.elapsed();
+        Some((here, used))
+    };
+    // The line search accepted its own point by `Model::potential` (summed
+    // in another order), so its energy is not judged again.
+    let (here, used) = test(&next)?;
+    if used.is_ok() || !ceiling.is_finite() {
+        // Passed, or the guard is off: the point is taken as it is.
+        return Some(Guarded {
+            u: next,
+            here,
+            factored_with: used,
+        });
+    }
+    let allowance = 1e-11 * potential.abs();
+    for halving in 1..=GUARD_HALVINGS {
+        let fraction = 0.5_f64.powi(halving as i32);
+        let candidate: Vec<f64> = u
             .iter()
-            .zip(&candidate)
-            .map(|(a, b)| a + 0.5 * (b - a))
+            .zip(&next)
+            .map(|(a, b)| a + fraction * (b - a))
             .collect();
+        // A halved point must not raise the energy.
+        if let Some((halved, Ok(shifted))) =
+            test(&candidate).filter(|(l, _)| l.potential <= potential + allowance)
+        {
+            return Some(Guarded {
+                u: candidate,
+                here: halved,
+                factored_with: Ok(shifted),
+            });
+        }
     }
     // No halving passed: the line search's point stands.
-    first.map(|(here, tried)| Guarded {
+    Some(Guarded {
         u: next,
         here,
-        factored_with: tried,
+        factored_with: used,
     })
 }
 
