@@ -256,16 +256,19 @@ fn help_succeeds() {
     assert!(String::from_utf8_lossy(&output.stdout).contains("ksa"));
 }
 
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("patchwork-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+/// A scratch folder, removed when dropped (also when the test fails).
+fn temp_dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("patchwork-cli-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 #[test]
 fn simulate_json_has_the_contract_fields_and_files() {
     let design = r#"{"balloon": {"length_mm": 100}, "patches": [{"x_mm": 0, "y_mm": 50, "h_mm": 20, "w_mm": 3, "theta_deg": 0}]}"#;
-    let dir = temp_dir("simulate");
+    let scratch = temp_dir("simulate");
+    let dir = scratch.path();
     let out = dir.to_string_lossy().to_string();
     let report = json(&patchwork_with_stdin(
         &["simulate", "-", "--json", "--rings", "40", "--out", &out],
@@ -298,7 +301,6 @@ fn simulate_json_has_the_contract_fields_and_files() {
             .count(),
         41
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -405,7 +407,8 @@ fn simulate_rejects_invalid_designs_naming_the_field() {
 
 #[test]
 fn design_writes_every_file_and_dxf_audits_cleanly() {
-    let dir = temp_dir("design");
+    let scratch = temp_dir("design");
+    let dir = scratch.path();
     let target_dir = dir.join("target");
     let truth = r#"{"balloon": {"length_mm": 100}, "patches": [{"x_mm": 0, "y_mm": 50, "h_mm": 20, "w_mm": 2.5, "theta_deg": 10}]}"#;
     let out = target_dir.to_string_lossy().to_string();
@@ -473,7 +476,6 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
     assert!(csv.starts_with("patch,x_mm,y_mm,h_mm,w_mm,theta_deg\nP1,"));
     let svg = std::fs::read_to_string(files.join("template.svg")).unwrap();
     assert!(svg.contains(r#"viewBox="0 0"#) && svg.contains("<polygon"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -526,8 +528,9 @@ fn arc_curve(dir: &std::path::Path) -> std::path::PathBuf {
 /// summary names both and design.json's metrics are the final refine's.
 #[test]
 fn fine_reports_its_final_refine() {
-    let dir = temp_dir("fine");
-    let curve = arc_curve(&dir);
+    let scratch = temp_dir("fine");
+    let dir = scratch.path();
+    let curve = arc_curve(dir);
     let out = dir.join("out");
     let run = patchwork(&[
         "design",
@@ -564,13 +567,13 @@ fn fine_reports_its_final_refine() {
         (verified - after).abs() < 1e-9,
         "{verified} against {after}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn design_checkpoints_and_resumes_from_the_file() {
-    let dir = temp_dir("checkpoint");
-    let curve = arc_curve(&dir);
+    let scratch = temp_dir("checkpoint");
+    let dir = scratch.path();
+    let curve = arc_curve(dir);
     let checkpoint = dir.join("run.checkpoint");
     let run = |out: &str| {
         patchwork(&[
