@@ -392,11 +392,14 @@ fn guard_definiteness(
     (shift, ceiling): (f64, f64),
     stats: &mut SolveStats,
 ) -> Option<Guarded> {
-    // K at `point`, factorised with a shift up to the ceiling.
-    let mut test = |point: &[f64]| {
+    // K at `point`, factorised with a shift up to the ceiling; `None` if the
+    // point is outside a material's domain or its energy is above `cap`
+    // (judged before the factorisation, which a refused point does not need).
+    let mut test = |point: &[f64], cap: Option<f64>| {
         let t = Instant::now();
-        let mut here = Linearisation::at(model, sections, point)?;
+        let linearised = Linearisation::at(model, sections, point);
         stats.assembly_time += t.elapsed();
+        let mut here = linearised.filter(|l| cap.is_none_or(|cap| l.potential <= cap))?;
         let t = Instant::now();
         let (used, attempts) =
             factor_with_shift(factor, &mut here.values, shift, here.stiffness, ceiling);
@@ -406,7 +409,7 @@ fn guard_definiteness(
     };
     // The line search accepted its own point by `Model::potential` (summed
     // in another order), so its energy is not judged again.
-    let (here, used) = test(&next)?;
+    let (here, used) = test(&next, None)?;
     if used.is_ok() || !ceiling.is_finite() {
         // Passed, or the guard is off: the point is taken as it is.
         return Some(Guarded {
@@ -424,9 +427,7 @@ fn guard_definiteness(
             .map(|(a, b)| a + fraction * (b - a))
             .collect();
         // A halved point must not raise the energy.
-        if let Some((halved, Ok(shifted))) =
-            test(&candidate).filter(|(l, _)| l.potential <= potential + allowance)
-        {
+        if let Some((halved, Ok(shifted))) = test(&candidate, Some(potential + allowance)) {
             return Some(Guarded {
                 u: candidate,
                 here: halved,
