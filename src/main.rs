@@ -5,6 +5,9 @@ mod cli;
 mod reports;
 mod service;
 
+#[cfg(test)]
+mod plan_parity;
+
 use std::process::ExitCode;
 
 fn main() -> ExitCode {

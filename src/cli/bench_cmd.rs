@@ -17,7 +17,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use patchwork_core::curve::{Curve, Preset};
 use patchwork_core::fe::mesh::MeshSpec;
-use patchwork_core::inverse::{DesignRequest, Fidelity, assess, design};
+use patchwork_core::inverse::{Fidelity, Plan, TuningOverrides, UserSettings, assess, design};
 
 use super::output::emit;
 
@@ -66,6 +66,18 @@ struct Setting {
     /// The preset's correction of the refine by a finer model (off: refine
     /// and verify on the verification model).
     correction: bool,
+}
+
+impl Setting {
+    /// What this row changes of its preset.
+    fn overrides(&self) -> TuningOverrides {
+        TuningOverrides {
+            warm_starts: Some(self.warm_starts),
+            refine_budget: Some(self.refine),
+            correction: Some(self.correction),
+            ..TuningOverrides::default()
+        }
+    }
 }
 
 struct Row {
@@ -235,28 +247,24 @@ pub fn run(args: BenchArgs) -> Result<()> {
             let mut samples = Vec::new();
             let mut failures = 0;
             for seed in 1..=args.runs as u64 {
-                let mut request = DesignRequest {
-                    budget: setting.budget,
+                let settings = UserSettings {
+                    fidelity: setting.fidelity,
+                    budget: Some(setting.budget),
                     seed,
                     threads: args.threads,
-                    warm_starts: setting.warm_starts,
-                    ..DesignRequest::default()
+                    ..UserSettings::default()
                 };
-                setting.fidelity.apply(&mut request);
-                request.refine_budget = setting.refine;
-                if !setting.correction {
-                    request.correction_mesh = None;
-                }
+                let plan = Plan::resolve(settings, &setting.overrides())?;
                 // Each run is timed as a fresh process would run it.
                 patchwork_core::inverse::evaluation_cache::clear();
                 let started = Instant::now();
-                match design(target, &request, &AtomicBool::new(false), &mut |_| {}) {
+                match design(target, &plan, &AtomicBool::new(false), &mut |_| {}) {
                     Ok(o) => {
                         let wall_s = started.elapsed().as_secs_f64();
                         let reference = if o.verified_on == REFERENCE_MESH {
                             o.metrics.shape_error_percent
                         } else {
-                            assess(target, &o.design, REFERENCE_MESH, &request)
+                            assess(target, &o.design, REFERENCE_MESH, plan.tuning())
                                 .map_or(f64::NAN, |m| m.shape_error_percent)
                         };
                         samples.push([

@@ -9,10 +9,9 @@ use anyhow::{Context, Result};
 use clap::Args;
 use patchwork_core::design::Design;
 use patchwork_core::fabrication::design_files;
-use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::inverse::{
-    DesignCheckpoint, DesignHooks, DesignProgress, DesignReport, DesignRequest, Fidelity,
-    INITIAL_STEP, ObjectiveOptions, RefineSummary, Stage, Start, design_resumable,
+    DesignCheckpoint, DesignProgress, DesignReport, Fidelity, ObjectiveOptions, Observer, Plan,
+    RefineSummary, SettingsError, Stage, Start, TuningOverrides, UserSettings, design_resumable,
 };
 
 use super::input::{CurveInput, read_text_argument};
@@ -63,21 +62,22 @@ pub struct DesignArgs {
     #[arg(long)]
     no_correction: bool,
     /// Weight of the shape error (aligned RMS distance / curve length) added
-    /// to the κ/τ mismatch in the objective; 0 leaves it out.
-    #[arg(long, default_value_t = ObjectiveOptions::default().shape_weight)]
-    shape_weight: f64,
+    /// to the κ/τ mismatch in the objective; 0 leaves it out [default: 10].
+    #[arg(long)]
+    shape_weight: Option<f64>,
     /// Use the squared form of the κ/τ mismatch (the paper's) instead of the
     /// authors' code's sum of norms.
     #[arg(long)]
     squared: bool,
-    /// CMA-ES's initial step as a fraction of each variable's range.
-    #[arg(long, default_value_t = INITIAL_STEP)]
-    initial_step: f64,
+    /// CMA-ES's initial step as a fraction of each variable's range
+    /// [default: 0.2].
+    #[arg(long)]
+    initial_step: Option<f64>,
     /// Where CMA-ES starts: `ksa` (KSA's patches, windows around them) or
     /// `even` (unseeded: as many patches spread evenly, free over the whole
     /// balloon — to measure what the seed is worth).
-    #[arg(long, default_value = "ksa")]
-    start: Start,
+    #[arg(long)]
+    start: Option<Start>,
     /// Threads evaluating a generation in parallel.
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
     threads: usize,
@@ -127,75 +127,114 @@ fn write_atomically(path: &std::path::Path, checkpoint: &DesignCheckpoint) -> Re
     std::fs::rename(&temporary, path).with_context(|| format!("cannot write {}", path.display()))
 }
 
+impl DesignArgs {
+    /// The plan these options ask for: the user's settings and the research
+    /// flags as tuning overrides, resolved as the API resolves a job.
+    pub fn plan(&self) -> Result<Plan> {
+        let base: Design = match &self.options {
+            Some(name) => {
+                let text = read_text_argument(name)?;
+                let mut value: serde_json::Value =
+                    serde_json::from_str(&text).with_context(|| format!("{name}: invalid JSON"))?;
+                if let Some(object) = value.as_object_mut() {
+                    object.entry("patches").or_insert(serde_json::json!([]));
+                }
+                serde_json::from_value(value)
+                    .with_context(|| format!("{name}: invalid design options"))?
+            }
+            None => Design::reference(vec![]),
+        };
+        let bounds = match &self.bounds {
+            Some(text) => {
+                serde_json::from_str(text).map_err(|e| anyhow::anyhow!("--bounds: {e}"))?
+            }
+            None => Default::default(),
+        };
+        let settings = UserSettings {
+            base,
+            fidelity: self.fidelity,
+            seed: self.seed,
+            budget: self.budget,
+            bounds,
+            freedom: Default::default(),
+            fix_length: self.fix_length,
+            threads: self.threads,
+        };
+        let objective = (self.shape_weight.is_some() || self.squared).then(|| ObjectiveOptions {
+            shape_weight: self
+                .shape_weight
+                .unwrap_or(ObjectiveOptions::default().shape_weight),
+            squared: self.squared,
+            ..ObjectiveOptions::default()
+        });
+        let overrides = TuningOverrides {
+            search_patience: self.patience,
+            initial_step: self.initial_step,
+            start: self.start,
+            objective,
+            uniform_mesh_mm: self.mesh_mm,
+            polish_budget: self.polish,
+            refine_budget: self.refine,
+            correction: self.no_correction.then_some(false),
+            ..TuningOverrides::default()
+        };
+        Plan::resolve(settings, &overrides).map_err(flag_error)
+    }
+}
+
+/// A settings error in the words of the command line: the flag that set it.
+fn flag_error(error: SettingsError) -> anyhow::Error {
+    let SettingsError { field, reason } = error;
+    let flag = match field.as_str() {
+        "budget" | "threads" | "initial_step" => field.replace('_', "-"),
+        "uniform_mesh_mm" | "search_mesh" | "verify_mesh" => "mesh-mm".into(),
+        f if f.starts_with("objective.") => f.trim_start_matches("objective.").replace('_', "-"),
+        f if f.starts_with("bounds.") => return anyhow::anyhow!("--bounds: {reason}"),
+        f if f.starts_with("design.") => return anyhow::anyhow!("--options: {f}: {reason}"),
+        _ => return anyhow::anyhow!("{field}: {reason}"),
+    };
+    anyhow::anyhow!("--{flag}: {reason}")
+}
+
+/// The terminal's progress line and the checkpoint file.
+struct CliObserver<'a> {
+    terminal: bool,
+    total_budget: usize,
+    checkpoint: Option<&'a std::path::Path>,
+    save_error: Option<anyhow::Error>,
+}
+
+impl Observer for CliObserver<'_> {
+    fn progress(&mut self, p: &DesignProgress) {
+        if !self.terminal {
+            return;
+        }
+        let stage = match p.stage {
+            Stage::Seed => "seed  ",
+            Stage::Search => "search",
+            Stage::Polish => "polish",
+            Stage::Verify => "verify",
+            Stage::Refine => "refine",
+        };
+        eprint!(
+            "\r{stage} generation {:>4}  evaluations {:>5}/{}  best {:>9.5}  σ {:.3}  {:>6.1} s ",
+            p.generation, p.evaluations, self.total_budget, p.best_objective, p.sigma, p.elapsed_s
+        );
+    }
+
+    fn checkpoint(&mut self, c: &DesignCheckpoint) {
+        if let Some(path) = self.checkpoint
+            && let Err(e) = write_atomically(path, c)
+        {
+            self.save_error.get_or_insert(e);
+        }
+    }
+}
+
 pub fn run(args: DesignArgs) -> Result<()> {
     let target = args.input.load()?;
-    let base: Design = match &args.options {
-        Some(name) => {
-            let text = read_text_argument(name)?;
-            let mut value: serde_json::Value =
-                serde_json::from_str(&text).with_context(|| format!("{name}: invalid JSON"))?;
-            if let Some(object) = value.as_object_mut() {
-                object.entry("patches").or_insert(serde_json::json!([]));
-            }
-            serde_json::from_value(value)
-                .with_context(|| format!("{name}: invalid design options"))?
-        }
-        None => Design::reference(vec![]),
-    };
-    let budget = args.budget.unwrap_or(args.fidelity.budget());
-    anyhow::ensure!(budget >= 1, "--budget must be at least 1");
-    anyhow::ensure!(args.threads >= 1, "--threads must be at least 1");
-    let mut request = DesignRequest {
-        base,
-        fix_length: args.fix_length,
-        budget,
-        seed: args.seed,
-        threads: args.threads,
-        ..DesignRequest::default()
-    };
-    args.fidelity.apply(&mut request);
-    if let Some(polish) = args.polish {
-        request.polish_budget = polish;
-    }
-    if let Some(refine) = args.refine {
-        request.refine_budget = refine;
-    }
-    if let Some(patience) = args.patience {
-        request.search_patience = patience;
-    }
-    if args.no_correction {
-        request.correction_mesh = None;
-    }
-    if let Some(text) = &args.bounds {
-        request.bounds =
-            serde_json::from_str(text).map_err(|e| anyhow::anyhow!("--bounds: {e}"))?;
-        request
-            .bounds
-            .validate()
-            .map_err(|e| anyhow::anyhow!("--bounds: {e}"))?;
-    }
-    request.initial_step = args.initial_step;
-    request.start = args.start;
-    request.objective.shape_weight = args.shape_weight;
-    request.objective.squared = args.squared;
     // Checked before the output folder is created: a bad option changes nothing.
-    request.validate_search().map_err(|e| match e {
-        patchwork_core::inverse::DesignRunError::Options { field, reason } => {
-            let flag = field.trim_start_matches("objective.").replace('_', "-");
-            anyhow::anyhow!("--{flag}: {reason}")
-        }
-        other => anyhow::anyhow!(other),
-    })?;
-    if let Some(mesh_mm) = args.mesh_mm {
-        anyhow::ensure!(
-            mesh_mm.is_finite() && mesh_mm > 0.0,
-            "--mesh-mm must be a positive number"
-        );
-        request.search_mesh = MeshSpec::uniform(mesh_mm);
-        request.verify_mesh = MeshSpec::uniform(mesh_mm / 2.0);
-        request.correction_mesh = None;
-        request.final_refine = None;
-    }
+    let plan = args.plan()?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let terminal = std::io::stderr().is_terminal();
@@ -215,41 +254,14 @@ pub fn run(args: DesignArgs) -> Result<()> {
         }
         _ => None,
     };
-    let mut save_error = None;
-    let mut save = |c: &DesignCheckpoint| {
-        if let Some(path) = &args.checkpoint
-            && let Err(e) = write_atomically(path, c)
-        {
-            save_error.get_or_insert(e);
-        }
+    let mut observer = CliObserver {
+        terminal,
+        total_budget: plan.total_budget(),
+        checkpoint: args.checkpoint.as_deref(),
+        save_error: None,
     };
-    let mut observe = |p: &DesignProgress| {
-        if terminal {
-            let stage = match p.stage {
-                Stage::Seed => "seed  ",
-                Stage::Search => "search",
-                Stage::Polish => "polish",
-                Stage::Verify => "verify",
-                Stage::Refine => "refine",
-            };
-            eprint!(
-                "\r{stage} generation {:>4}  evaluations {:>5}/{}  best {:>9.5}  σ {:.3}  {:>6.1} s ",
-                p.generation,
-                p.evaluations,
-                budget + request.polish_budget + request.refine_budget,
-                p.best_objective,
-                p.sigma,
-                p.elapsed_s
-            );
-        }
-    };
-    let hooks = DesignHooks {
-        cancel: &cancel,
-        observer: &mut observe,
-        checkpoint: &mut save,
-    };
-    let outcome = design_resumable(&target, &request, resume, hooks)?;
-    if let Some(e) = save_error {
+    let outcome = design_resumable(&target, &plan, resume, &cancel, &mut observer)?;
+    if let Some(e) = observer.save_error {
         return Err(e);
     }
     if terminal {
@@ -278,7 +290,7 @@ fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         "target {:.1} mm; inflated {:.1} mm; cut the balloon {:.1} mm long\n\
          search model: objective {:.4} (KSA seed {:.4})\n\
          verified:     shape error {:.2} mm ({:.2} % of length); objective {:.4}; DTW κ {:.4}, τ {:.4}\n\
-         {} evaluations in {:.1} s ({:?})\n",
+         {} evaluations in {:.1} s ({})\n",
         r.target_length_mm,
         r.inflated_length_mm,
         r.uninflated_length_to_cut_mm,

@@ -2,7 +2,7 @@
 
 mod bench_cmd;
 mod curve_cmd;
-mod design_cmd;
+pub(crate) mod design_cmd;
 mod input;
 mod ksa_cmd;
 mod output;

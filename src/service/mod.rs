@@ -10,7 +10,7 @@ mod jobs;
 mod ops;
 mod problem;
 mod quick;
-mod request;
+pub(crate) mod request;
 mod routes;
 mod state;
 mod store;

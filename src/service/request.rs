@@ -4,7 +4,8 @@
 use patchwork_core::curve::{Curve, Preset, Units, points_from_json, read_text};
 use patchwork_core::design::Design;
 use patchwork_core::inverse::{
-    DesignRequest, DesignRunError, Fidelity, Freedom, ObjectiveOptions, Start, VariableBounds,
+    Fidelity, Freedom, ObjectiveOptions, Plan, SettingsError, Start, TuningOverrides, UserSettings,
+    VariableBounds,
 };
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -92,10 +93,10 @@ pub struct JobRequest {
     pub objective: Option<ObjectiveOptions>,
 }
 
-/// A validated job: the target and the run's settings.
+/// A validated job: the target and the run's plan.
 pub struct Prepared {
     pub target: Curve,
-    pub request: DesignRequest,
+    pub plan: Plan,
 }
 
 impl JobRequest {
@@ -123,51 +124,41 @@ impl JobRequest {
                 ));
             }
         }
-        let bounds = self.bounds.unwrap_or_default();
-        bounds
-            .validate()
-            .map_err(|e| Problem::invalid(format!("bounds.{}", e.field), e.to_string()))?;
-        let mut request = DesignRequest {
+        let settings = UserSettings {
             base,
-            fix_length: self.options.fix_length,
-            freedom: self.freedom.unwrap_or_default(),
-            bounds,
-            budget,
+            fidelity,
             seed: self.options.seed.unwrap_or(1),
+            budget: self.options.budget,
+            bounds: self.bounds.unwrap_or_default(),
+            freedom: self.freedom.unwrap_or_default(),
+            fix_length: self.options.fix_length,
             // One job per worker, one worker per core.
             threads: 1,
-            objective: self.objective.unwrap_or_default(),
-            ..DesignRequest::default()
         };
-        if let Some(step) = self.options.initial_step {
-            request.initial_step = step;
-        }
-        request.start = self.options.start;
-        request.validate_search().map_err(|e| match e {
-            DesignRunError::Options { field, reason } => {
-                let field = match field.as_str() {
-                    "initial_step" => "options.initial_step".to_string(),
-                    _ => field,
-                };
-                Problem::invalid(field, reason)
-            }
-            other => Problem::invalid("options", other.to_string()),
-        })?;
-        fidelity.apply(&mut request);
-        if let Some(polish) = self.options.polish {
-            request.polish_budget = polish;
-        }
-        if let Some(refine) = self.options.refine {
-            request.refine_budget = refine;
-        }
-        if let Some(patience) = self.options.patience {
-            request.search_patience = patience;
-        }
-        if self.options.correction == Some(false) {
-            request.correction_mesh = None;
-        }
-        Ok(Prepared { target, request })
+        let overrides = TuningOverrides {
+            search_patience: self.options.patience,
+            initial_step: self.options.initial_step,
+            start: Some(self.options.start),
+            objective: self.objective,
+            polish_budget: self.options.polish,
+            refine_budget: self.options.refine,
+            correction: self.options.correction,
+            ..TuningOverrides::default()
+        };
+        let plan = Plan::resolve(settings, &overrides).map_err(problem_of)?;
+        Ok(Prepared { target, plan })
     }
+}
+
+/// A settings error as a problem naming the request's field.
+fn problem_of(error: SettingsError) -> Problem {
+    let SettingsError { field, reason } = error;
+    let field = match field.as_str() {
+        "initial_step" => "options.initial_step".to_string(),
+        "budget" => "options.budget".to_string(),
+        _ => field,
+    };
+    Problem::invalid(field, reason)
 }
 
 impl CurveSpec {

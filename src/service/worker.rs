@@ -9,7 +9,7 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use patchwork_core::inverse::{
-    DesignCheckpoint, DesignHooks, DesignProgress, DesignReport, DesignRunError, Stage,
+    DesignCheckpoint, DesignProgress, DesignReport, DesignRunError, Observer, Stage,
     design_resumable,
 };
 use serde_json::json;
@@ -25,6 +25,22 @@ use patchwork_core::fabrication::design_files;
 enum Message {
     Progress(DesignProgress),
     Checkpoint(String),
+}
+
+/// The run's observer: every progress report and checkpoint goes to the
+/// async side, which records them in order.
+struct ChannelObserver(mpsc::UnboundedSender<Message>);
+
+impl Observer for ChannelObserver {
+    fn progress(&mut self, progress: &DesignProgress) {
+        let _ = self.0.send(Message::Progress(*progress));
+    }
+
+    fn checkpoint(&mut self, checkpoint: &DesignCheckpoint) {
+        if let Ok(text) = serde_json::to_string(checkpoint) {
+            let _ = self.0.send(Message::Checkpoint(text));
+        }
+    }
 }
 
 pub fn start(state: &AppState) -> Vec<tokio::task::JoinHandle<()>> {
@@ -99,28 +115,18 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
         })
     };
     let (tx, mut rx) = mpsc::unbounded_channel();
-    let seed = prepared.request.seed;
+    let seed = prepared.plan.settings().seed;
     let span = tracing::Span::current();
     let compute = {
         let control = control.clone();
         tokio::task::spawn_blocking(move || {
             let _entered = span.enter();
-            let progress_tx = tx.clone();
             design_resumable(
                 &prepared.target,
-                &prepared.request,
+                &prepared.plan,
                 resume,
-                DesignHooks {
-                    cancel: &control.cancel,
-                    observer: &mut |p| {
-                        let _ = progress_tx.send(Message::Progress(*p));
-                    },
-                    checkpoint: &mut |c| {
-                        if let Ok(text) = serde_json::to_string(c) {
-                            let _ = tx.send(Message::Checkpoint(text));
-                        }
-                    },
-                },
+                &control.cancel,
+                &mut ChannelObserver(tx),
             )
         })
     };

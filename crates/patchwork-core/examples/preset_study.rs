@@ -21,7 +21,7 @@ use std::time::Instant;
 
 use patchwork_core::curve::ReferenceCurve;
 use patchwork_core::fe::mesh::MeshSpec;
-use patchwork_core::inverse::{DesignProgress, DesignRequest, Fidelity, assess, design};
+use patchwork_core::inverse::{DesignProgress, Fidelity, Plan, UserSettings, assess, design};
 
 /// `MM` (uniform) or `MM/MM` (graded: under patches / bare stretches).
 fn mesh(value: &str) -> MeshSpec {
@@ -78,26 +78,28 @@ fn main() {
     println!("|---|---|---|---|---|---|");
     let mut rows = Vec::new();
     for seed in 1..=seeds {
-        let mut request = DesignRequest {
+        let settings = UserSettings {
+            fidelity,
             seed,
             threads: 2,
-            warm_starts: warm,
-            budget: budget.unwrap_or(fidelity.budget()),
-            ..DesignRequest::default()
+            budget,
+            ..UserSettings::default()
         };
-        fidelity.apply(&mut request);
+        let mut tuning = fidelity.tuning(settings.base.balloon.radius_mm);
+        tuning.warm_starts = warm;
         if let Some(refine) = refine {
-            request.refine_budget = refine;
+            tuning.refine_budget = refine;
         }
         if let Some(mesh) = refine_mesh {
-            request.verify_mesh = mesh.unwrap_or(request.search_mesh);
+            tuning.verify_mesh = mesh.unwrap_or(tuning.search_mesh);
         }
         if let Some(patience) = patience {
-            request.search_patience = patience;
+            tuning.search_patience = patience;
         }
         if let Some(correction) = correction {
-            request.correction_mesh = correction;
+            tuning.correction_mesh = correction;
         }
+        let plan = Plan::with_tuning(settings, tuning).expect("valid settings");
         patchwork_core::inverse::evaluation_cache::clear();
         let started = Instant::now();
         let mut observer = |p: &DesignProgress| {
@@ -108,10 +110,10 @@ fn main() {
                 )
             }
         };
-        let outcome = design(&target, &request, &AtomicBool::new(false), &mut observer)
+        let outcome = design(&target, &plan, &AtomicBool::new(false), &mut observer)
             .expect("the design runs");
         let wall = started.elapsed().as_secs_f64();
-        let on_reference = assess(&target, &outcome.design, reference, &request)
+        let on_reference = assess(&target, &outcome.design, reference, plan.tuning())
             .map_or(f64::NAN, |m| m.shape_error_percent);
         println!(
             "| {seed} | {wall:.1} | {} | {} | {:.3} | {on_reference:.3} |",

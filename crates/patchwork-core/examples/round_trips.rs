@@ -14,14 +14,17 @@
 //! the shape error in the objective), `polish=0` (CMA-ES polish evaluations on
 //! the verification model), `refine=N` (solves of the Levenberg–Marquardt
 //! refine there; default the fidelity's), `trips=10`, `search=verify` (search
-//! on the verification model itself: no model error in the loop).
+//! on the verification model itself: no model error in the loop), `out=DIR`
+//! (write each trip's design.json there as `trip-N.json`, to compare builds).
 
 use std::sync::atomic::AtomicBool;
 
 use patchwork_core::cmaes::SeededRng;
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::{SimulateOptions, simulate};
-use patchwork_core::inverse::{DesignRequest, Fidelity, INITIAL_STEP, ObjectiveOptions, design};
+use patchwork_core::inverse::{
+    DesignReport, Fidelity, INITIAL_STEP, ObjectiveOptions, Plan, UserSettings, design,
+};
 
 /// The `key=value` settings of one comparison.
 struct Settings {
@@ -34,6 +37,7 @@ struct Settings {
     trips: u64,
     search_on_verify: bool,
     uncorrected: bool,
+    out: Option<std::path::PathBuf>,
 }
 
 fn settings() -> Settings {
@@ -47,6 +51,7 @@ fn settings() -> Settings {
         trips: 10,
         search_on_verify: false,
         uncorrected: false,
+        out: None,
     };
     for arg in std::env::args().skip(1) {
         let (key, value) = arg.split_once('=').expect("arguments are key=value");
@@ -61,6 +66,7 @@ fn settings() -> Settings {
             "trips" => s.trips = number() as u64,
             "search" if value == "verify" => s.search_on_verify = true,
             "correction" if value == "none" => s.uncorrected = true,
+            "out" => s.out = Some(value.into()),
             _ => panic!("unknown setting {key}"),
         }
     }
@@ -77,7 +83,7 @@ fn main() {
         settings.shape,
         settings.polish,
         settings.refine.unwrap_or(settings.fidelity.refine_budget()),
-        !settings.uncorrected && settings.fidelity.correction_mesh().is_some(),
+        !settings.uncorrected,
         settings.search_on_verify
     );
     let mut rng = SeededRng::new(2026);
@@ -112,38 +118,40 @@ fn main() {
             },
             ..Design::reference(patches.clone())
         };
-        let mut request = DesignRequest {
+        let user = UserSettings {
             base: Design {
                 patches: vec![],
                 ..truth.clone()
             },
-            budget: settings.budget,
+            fidelity: settings.fidelity,
+            budget: Some(settings.budget),
             seed: trip,
             threads: 2,
-            initial_step: settings.sigma,
-            ..DesignRequest::default()
+            ..UserSettings::default()
         };
-        request.objective.shape_weight = settings.shape;
-        settings.fidelity.apply(&mut request);
-        request.polish_budget = settings.polish;
+        let mut tuning = settings.fidelity.tuning(user.base.balloon.radius_mm);
+        tuning.initial_step = settings.sigma;
+        tuning.objective.shape_weight = settings.shape;
+        tuning.polish_budget = settings.polish;
         if let Some(refine) = settings.refine {
-            request.refine_budget = refine;
+            tuning.refine_budget = refine;
         }
         if settings.uncorrected {
-            request.correction_mesh = None;
+            tuning.correction_mesh = None;
         }
         if settings.search_on_verify {
-            request.search_mesh = request.verify_mesh;
+            tuning.search_mesh = tuning.verify_mesh;
         }
         // The target comes from the model the result is verified on.
         let model = SimulateOptions {
-            mesh: request.correction_mesh.unwrap_or(request.verify_mesh),
+            mesh: tuning.correction_mesh.unwrap_or(tuning.verify_mesh),
             ..SimulateOptions::default()
         };
+        let plan = Plan::with_tuning(user, tuning).expect("valid settings");
         let target = simulate(&truth, &model)
             .expect("a feasible design")
             .centreline;
-        let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {})
+        let outcome = design(&target, &plan, &AtomicBool::new(false), &mut |_| {})
             .expect("the round trip designs");
         let shown: Vec<String> = patches
             .iter()
@@ -165,6 +173,12 @@ fn main() {
             outcome.elapsed.as_secs_f64()
         );
         assert!(outcome.metrics.shape_error_percent.is_finite());
+        if let Some(dir) = &settings.out {
+            std::fs::create_dir_all(dir).expect("the out folder");
+            let report = DesignReport::new(&outcome, trip);
+            let text = serde_json::to_string_pretty(&report).expect("serialises");
+            std::fs::write(dir.join(format!("trip-{trip}.json")), text).expect("writes");
+        }
         errors.push(outcome.metrics.shape_error_percent);
     }
     errors.sort_by(f64::total_cmp);

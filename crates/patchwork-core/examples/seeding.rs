@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use patchwork_core::curve::ReferenceCurve;
 use patchwork_core::inverse::{
-    DesignHooks, DesignProgress, DesignRequest, Fidelity, Stage, Start, design_resumable,
+    DesignProgress, Fidelity, Plan, Stage, Start, TuningOverrides, UserSettings, design,
 };
 
 /// One run's best objective after each generation, and its outcome.
@@ -50,13 +50,18 @@ impl Run {
 
 fn run(start: Start, budget: usize, seed: u64) -> Run {
     let target = ReferenceCurve::Hilbert.curve();
-    let mut request = DesignRequest::default();
-    Fidelity::Draft.apply(&mut request);
-    request.budget = budget;
-    request.polish_budget = 0;
-    request.threads = 2;
-    request.seed = seed;
-    request.start = start;
+    let settings = UserSettings {
+        fidelity: Fidelity::Draft,
+        budget: Some(budget),
+        threads: 2,
+        seed,
+        ..UserSettings::default()
+    };
+    let overrides = TuningOverrides {
+        start: Some(start),
+        ..TuningOverrides::default()
+    };
+    let plan = Plan::resolve(settings, &overrides).expect("valid settings");
     let mut trajectory = Vec::new();
     let mut observer = |p: &DesignProgress| {
         if p.stage == Stage::Search {
@@ -65,17 +70,7 @@ fn run(start: Start, budget: usize, seed: u64) -> Run {
     };
     let cancel = AtomicBool::new(false);
     let started = Instant::now();
-    let outcome = design_resumable(
-        &target,
-        &request,
-        None,
-        DesignHooks {
-            cancel: &cancel,
-            observer: &mut observer,
-            checkpoint: &mut |_| {},
-        },
-    )
-    .expect("the Hilbert design runs");
+    let outcome = design(&target, &plan, &cancel, &mut observer).expect("the Hilbert design runs");
     Run {
         start_objective: outcome.seed_objective,
         trajectory,

@@ -11,12 +11,86 @@ use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use patchwork_core::Curve;
-use patchwork_core::cmaes::Termination;
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::newton::NewtonOptions;
 use patchwork_core::fe::{SimulateOptions, simulate};
-use patchwork_core::inverse::{DesignRequest, FinalRefine, Stage, assess, design};
+use patchwork_core::inverse::{
+    FinalRefine, ObjectiveOptions, Plan, SearchEnd, Stage, Tuning, UserSettings, VariableBounds,
+    assess, design,
+};
+
+/// A run's settings and tuning in one flat struct, as these tests vary them
+/// (defaults: the plain search of [`Tuning::default`] with the user
+/// defaults of [`UserSettings::default`]).
+#[derive(Debug, Clone)]
+struct Request {
+    base: Design,
+    fix_length: bool,
+    bounds: VariableBounds,
+    budget: usize,
+    seed: u64,
+    threads: usize,
+    search_mesh: MeshSpec,
+    verify_mesh: MeshSpec,
+    polish_budget: usize,
+    refine_budget: usize,
+    correction_mesh: Option<MeshSpec>,
+    final_refine: Option<FinalRefine>,
+    objective: ObjectiveOptions,
+    search_patience: usize,
+}
+
+impl Default for Request {
+    fn default() -> Self {
+        let (settings, tuning) = (UserSettings::default(), Tuning::default());
+        Request {
+            base: settings.base,
+            fix_length: settings.fix_length,
+            bounds: settings.bounds,
+            budget: tuning.search_budget,
+            seed: settings.seed,
+            threads: settings.threads,
+            search_mesh: tuning.search_mesh,
+            verify_mesh: tuning.verify_mesh,
+            polish_budget: tuning.polish_budget,
+            refine_budget: tuning.refine_budget,
+            correction_mesh: tuning.correction_mesh,
+            final_refine: tuning.final_refine,
+            objective: tuning.objective,
+            search_patience: tuning.search_patience,
+        }
+    }
+}
+
+impl Request {
+    fn tuning(&self) -> Tuning {
+        Tuning {
+            search_budget: self.budget,
+            search_mesh: self.search_mesh,
+            verify_mesh: self.verify_mesh,
+            polish_budget: self.polish_budget,
+            refine_budget: self.refine_budget,
+            correction_mesh: self.correction_mesh,
+            final_refine: self.final_refine,
+            objective: self.objective,
+            search_patience: self.search_patience,
+            ..Tuning::default()
+        }
+    }
+
+    fn plan(&self) -> Plan {
+        let settings = UserSettings {
+            base: self.base.clone(),
+            fix_length: self.fix_length,
+            bounds: self.bounds,
+            seed: self.seed,
+            threads: self.threads,
+            ..UserSettings::default()
+        };
+        Plan::with_tuning(settings, self.tuning()).expect("valid settings")
+    }
+}
 
 /// A reference-scene balloon of `length_mm`, and the inflated centreline of
 /// it carrying `patch` (2 mm model): a target with a known solution.
@@ -64,14 +138,14 @@ fn small_target() -> (Design, Curve) {
 
 /// The small case's target and a request for it: the length fixed, search
 /// and verification on the 2 mm model, `budget` search evaluations.
-fn small_request(budget: usize) -> (DesignRequest, Curve) {
+fn small_request(budget: usize) -> (Request, Curve) {
     let (base, target) = small_target();
-    let request = DesignRequest {
+    let request = Request {
         base,
         fix_length: true,
         budget,
         verify_mesh: MeshSpec::uniform(2.0),
-        ..DesignRequest::default()
+        ..Request::default()
     };
     (request, target)
 }
@@ -90,7 +164,7 @@ const OBLIQUE_PATCH: Patch = Patch {
 /// balloon, the length fixed, search and verification on the 2 mm model;
 /// the truth, its centreline and the request with `budget` search
 /// evaluations and `refine` refine solves.
-fn oblique_patch_round_trip(budget: usize, refine: usize) -> (Patch, Curve, DesignRequest) {
+fn oblique_patch_round_trip(budget: usize, refine: usize) -> (Patch, Curve, Request) {
     let truth = OBLIQUE_PATCH;
     let (target, request) = patch_round_trip(truth, 120.0, budget, refine);
     (truth, target, request)
@@ -104,16 +178,16 @@ fn patch_round_trip(
     length_mm: f64,
     budget: usize,
     refine: usize,
-) -> (Curve, DesignRequest) {
+) -> (Curve, Request) {
     let (base, target) = one_patch_target(length_mm, truth);
-    let request = DesignRequest {
+    let request = Request {
         base,
         fix_length: true,
         budget,
         refine_budget: refine,
         threads: 2,
         verify_mesh: MeshSpec::uniform(2.0),
-        ..DesignRequest::default()
+        ..Request::default()
     };
     (target, request)
 }
@@ -122,16 +196,16 @@ fn patch_round_trip(
 /// request to design it again on the coarser `verify_mesh`: the length
 /// fixed, 100 search evaluations, 60 refine solves, 2 threads (the caller
 /// adds the finer model's role: correction or final refine).
-fn two_model_round_trip(target_mesh: MeshSpec, verify_mesh: MeshSpec) -> (DesignRequest, Curve) {
+fn two_model_round_trip(target_mesh: MeshSpec, verify_mesh: MeshSpec) -> (Request, Curve) {
     let (base, target) = one_patch_target_on(120.0, OBLIQUE_PATCH, target_mesh);
-    let request = DesignRequest {
+    let request = Request {
         base,
         fix_length: true,
         budget: 100,
         refine_budget: 60,
         threads: 2,
         verify_mesh,
-        ..DesignRequest::default()
+        ..Request::default()
     };
     (request, target)
 }
@@ -140,9 +214,12 @@ fn two_model_round_trip(target_mesh: MeshSpec, verify_mesh: MeshSpec) -> (Design
 fn one_patch_round_trip_recovers_the_design() {
     let (truth, target, request) = oblique_patch_round_trip(200, 0);
     let mut stages = Vec::new();
-    let outcome = design(&target, &request, &AtomicBool::new(false), &mut |p| {
-        stages.push(p.stage)
-    })
+    let outcome = design(
+        &target,
+        &request.plan(),
+        &AtomicBool::new(false),
+        &mut |p| stages.push(p.stage),
+    )
     .unwrap();
     let found = outcome.design.patches[0];
     println!(
@@ -184,11 +261,16 @@ fn one_patch_round_trip_recovers_the_design() {
 fn refine_takes_a_round_trip_to_its_solution() {
     let (truth, target, request) = oblique_patch_round_trip(100, 40);
     let mut refine_steps = Vec::new();
-    let outcome = design(&target, &request, &AtomicBool::new(false), &mut |p| {
-        if p.stage == Stage::Refine {
-            refine_steps.push((p.evaluations, p.best_objective));
-        }
-    })
+    let outcome = design(
+        &target,
+        &request.plan(),
+        &AtomicBool::new(false),
+        &mut |p| {
+            if p.stage == Stage::Refine {
+                refine_steps.push((p.evaluations, p.best_objective));
+            }
+        },
+    )
     .unwrap();
     let found = outcome.design.patches[0];
     println!(
@@ -236,14 +318,14 @@ fn refine_takes_a_round_trip_to_its_solution() {
 fn a_finer_model_corrects_the_refine() {
     let finer = MeshSpec::uniform(0.5);
     let (plain_request, target) = two_model_round_trip(finer, MeshSpec::uniform(1.0));
-    let corrected_request = DesignRequest {
+    let corrected_request = Request {
         correction_mesh: Some(finer),
         ..plain_request.clone()
     };
     let cancel = AtomicBool::new(false);
-    let corrected = design(&target, &corrected_request, &cancel, &mut |_| {}).unwrap();
-    let plain = design(&target, &plain_request, &cancel, &mut |_| {}).unwrap();
-    let plain_on_finer = assess(&target, &plain.design, finer, &plain_request)
+    let corrected = design(&target, &corrected_request.plan(), &cancel, &mut |_| {}).unwrap();
+    let plain = design(&target, &plain_request.plan(), &cancel, &mut |_| {}).unwrap();
+    let plain_on_finer = assess(&target, &plain.design, finer, &plain_request.tuning())
         .unwrap()
         .shape_error_percent;
     let summary = corrected.refine.expect("the refine ran");
@@ -278,7 +360,7 @@ fn a_finer_model_corrects_the_refine() {
 fn a_final_refine_goes_on_on_the_finest_model() {
     let finest = MeshSpec::uniform(1.0);
     let (request, target) = two_model_round_trip(finest, MeshSpec::uniform(2.0));
-    let request = DesignRequest {
+    let request = Request {
         final_refine: Some(FinalRefine {
             mesh: finest,
             staging_solves: 25,
@@ -286,7 +368,13 @@ fn a_final_refine_goes_on_on_the_finest_model() {
         }),
         ..request
     };
-    let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    let outcome = design(
+        &target,
+        &request.plan(),
+        &AtomicBool::new(false),
+        &mut |_| {},
+    )
+    .unwrap();
     let staged = outcome.refine.expect("the refine ran");
     let last = outcome.final_refine.expect("the final refine ran");
     println!(
@@ -299,7 +387,7 @@ fn a_final_refine_goes_on_on_the_finest_model() {
     // Verified on the finest model: the final refine's own result.
     assert_eq!(outcome.verified_on, finest);
     assert!((last.shape_error_after_percent - outcome.metrics.shape_error_percent).abs() < 1e-9);
-    let on_finest = assess(&target, &outcome.design, finest, &request)
+    let on_finest = assess(&target, &outcome.design, finest, &request.tuning())
         .unwrap()
         .shape_error_percent;
     assert!((on_finest - outcome.metrics.shape_error_percent).abs() < 1e-6);
@@ -323,7 +411,7 @@ fn a_final_refine_that_cannot_start_leaves_the_refines_result() {
     let finest = MeshSpec::uniform(1.0);
     let staging = MeshSpec::uniform(2.0);
     let (request, target) = two_model_round_trip(finest, staging);
-    let request = DesignRequest {
+    let request = Request {
         budget: 30,
         refine_budget: 20,
         final_refine: Some(FinalRefine {
@@ -336,7 +424,13 @@ fn a_final_refine_that_cannot_start_leaves_the_refines_result() {
         }),
         ..request
     };
-    let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    let outcome = design(
+        &target,
+        &request.plan(),
+        &AtomicBool::new(false),
+        &mut |_| {},
+    )
+    .unwrap();
     let why = outcome.final_refine_skipped.as_deref().expect("a reason");
     println!("{why}");
     assert!(
@@ -363,16 +457,22 @@ fn a_final_refine_that_cannot_start_leaves_the_refines_result() {
 #[test]
 fn an_impatient_search_stops_when_it_stalls() {
     let (request, target) = small_request(200);
-    let request = DesignRequest {
+    let request = Request {
         search_patience: 1,
         ..request
     };
-    let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    let outcome = design(
+        &target,
+        &request.plan(),
+        &AtomicBool::new(false),
+        &mut |_| {},
+    )
+    .unwrap();
     println!(
         "{:?} after {} of 200 evaluations",
         outcome.termination, outcome.evaluations
     );
-    assert_eq!(outcome.termination, Termination::Stalled);
+    assert_eq!(outcome.termination, SearchEnd::STALLED);
     assert!(outcome.evaluations < 200);
 }
 
@@ -382,12 +482,12 @@ fn an_impatient_search_stops_when_it_stalls() {
 fn cancellation_reaches_the_refine() {
     let (request, target) = small_request(16);
     let cancel = AtomicBool::new(false);
-    let request = DesignRequest {
+    let request = Request {
         refine_budget: 200,
         ..request
     };
     let mut refined = false;
-    let result = design(&target, &request, &cancel, &mut |p| {
+    let result = design(&target, &request.plan(), &cancel, &mut |p| {
         if p.stage == Stage::Refine {
             refined = true;
             cancel.store(true, std::sync::atomic::Ordering::Relaxed);
@@ -413,13 +513,13 @@ fn cancellation_stops_the_run() {
         },
     );
     let cancel = AtomicBool::new(false);
-    let request = DesignRequest {
+    let request = Request {
         base,
         fix_length: true,
         budget: 10_000,
-        ..DesignRequest::default()
+        ..Request::default()
     };
-    let result = design(&target, &request, &cancel, &mut |p| {
+    let result = design(&target, &request.plan(), &cancel, &mut |p| {
         if p.stage == Stage::Search && p.generation >= 2 {
             cancel.store(true, std::sync::atomic::Ordering::Relaxed);
         }
@@ -432,41 +532,38 @@ fn cancellation_stops_the_run() {
 
 #[test]
 fn a_run_resumes_from_a_serialised_checkpoint() {
-    use patchwork_core::inverse::{DesignCheckpoint, DesignHooks, design_resumable};
+    use patchwork_core::inverse::{DesignCheckpoint, DesignProgress, Observer, design_resumable};
+    /// Keeps every checkpoint as JSON.
+    struct Saving(Vec<String>);
+    impl Observer for Saving {
+        fn progress(&mut self, _: &DesignProgress) {}
+        fn checkpoint(&mut self, c: &DesignCheckpoint) {
+            self.0.push(serde_json::to_string(c).unwrap());
+        }
+    }
     let (request, target) = small_request(50);
-    let request = DesignRequest {
+    let request = Request {
         threads: 1,
         ..request
     };
     let cancel = AtomicBool::new(false);
-    let mut saved: Vec<String> = Vec::new();
-    let whole = design_resumable(
-        &target,
-        &request,
-        None,
-        DesignHooks {
-            cancel: &cancel,
-            observer: &mut |_| {},
-            checkpoint: &mut |c| saved.push(serde_json::to_string(c).unwrap()),
-        },
-    )
-    .unwrap();
+    let plan = request.plan();
+    let mut saving = Saving(Vec::new());
+    let whole = design_resumable(&target, &plan, None, &cancel, &mut saving).unwrap();
+    let saved = saving.0;
     // The seed and one checkpoint per generation (population 8 for 5 variables).
     assert!(saved.len() >= 5, "{} checkpoints", saved.len());
     let checkpoint: DesignCheckpoint = serde_json::from_str(&saved[3]).unwrap();
     let mut first_search = None;
     let resumed = design_resumable(
         &target,
-        &request,
+        &plan,
         Some(checkpoint.clone()),
-        DesignHooks {
-            cancel: &cancel,
-            observer: &mut |p| {
-                if p.stage == Stage::Search && first_search.is_none() {
-                    first_search = Some(p.evaluations);
-                }
-            },
-            checkpoint: &mut |_| {},
+        &cancel,
+        &mut |p: &DesignProgress| {
+            if p.stage == Stage::Search && first_search.is_none() {
+                first_search = Some(p.evaluations);
+            }
         },
     )
     .unwrap();
@@ -492,20 +589,23 @@ fn a_run_resumes_from_a_serialised_checkpoint() {
 #[test]
 fn polish_stage_runs_on_the_verification_model() {
     let (request, target) = small_request(30);
-    let unpolished = DesignRequest {
+    let unpolished = Request {
         threads: 2,
         search_mesh: MeshSpec::uniform(3.0),
         ..request
     };
-    let polished = DesignRequest {
+    let polished = Request {
         polish_budget: 20,
         ..unpolished.clone()
     };
-    let run = |request: &DesignRequest| {
+    let run = |request: &Request| {
         let mut stages = Vec::new();
-        let outcome = design(&target, request, &AtomicBool::new(false), &mut |p| {
-            stages.push(p.stage)
-        })
+        let outcome = design(
+            &target,
+            &request.plan(),
+            &AtomicBool::new(false),
+            &mut |p| stages.push(p.stage),
+        )
         .unwrap();
         (outcome, stages)
     };
@@ -529,15 +629,23 @@ fn polish_stage_runs_on_the_verification_model() {
 fn a_repeated_run_is_served_from_the_evaluation_cache() {
     use patchwork_core::inverse::evaluation_cache;
     let (base, target) = small_target();
-    let request = DesignRequest {
+    let request = Request {
         base,
         budget: 30,
         threads: 2,
         search_mesh: MeshSpec::uniform(3.0),
         verify_mesh: MeshSpec::uniform(2.0),
-        ..DesignRequest::default()
+        ..Request::default()
     };
-    let run = || design(&target, &request, &AtomicBool::new(false), &mut |_| {}).unwrap();
+    let run = || {
+        design(
+            &target,
+            &request.plan(),
+            &AtomicBool::new(false),
+            &mut |_| {},
+        )
+        .unwrap()
+    };
     let first = run();
     let before = evaluation_cache::counts();
     let again = run();
@@ -581,7 +689,7 @@ fn a_design_pinned_on_a_limit_says_so() {
         theta_deg: 0.0,
     };
     let (target, request) = patch_round_trip(truth, 80.0, 60, 40);
-    let relaxed = DesignRequest {
+    let relaxed = Request {
         bounds: patchwork_core::inverse::VariableBounds {
             w_min_mm: 0.5,
             ..request.bounds
@@ -589,8 +697,8 @@ fn a_design_pinned_on_a_limit_says_so() {
         ..request.clone()
     };
     let cancel = AtomicBool::new(false);
-    let pinned = design(&target, &request, &cancel, &mut |_| {}).unwrap();
-    let free = design(&target, &relaxed, &cancel, &mut |_| {}).unwrap();
+    let pinned = design(&target, &request.plan(), &cancel, &mut |_| {}).unwrap();
+    let free = design(&target, &relaxed.plan(), &cancel, &mut |_| {}).unwrap();
     println!(
         "pinned: {:.3} % {:?} {:?}; relaxed: {:.3} % {:?} {:?}",
         pinned.metrics.shape_error_percent,

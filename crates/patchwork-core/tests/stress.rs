@@ -14,7 +14,7 @@ use patchwork_core::curve::{Curve, Point, Preset};
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::newton::NewtonOptions;
 use patchwork_core::fe::{SimulateOptions, simulate};
-use patchwork_core::inverse::{DesignRequest, Fidelity, design};
+use patchwork_core::inverse::{Fidelity, Plan, TuningOverrides, UserSettings, design};
 use patchwork_core::material::Material;
 
 /// Refine solves of the abusive targets' designs: one Jacobian and some
@@ -125,19 +125,23 @@ impl Tally {
                 return;
             }
         };
-        let mut request = DesignRequest {
-            budget: 3,
+        let settings = UserSettings {
+            fidelity: Fidelity::Draft,
+            budget: Some(3),
             threads: 1,
-            ..DesignRequest::default()
+            ..UserSettings::default()
         };
-        Fidelity::Draft.apply(&mut request);
-        request.refine_budget = if target.length() > NO_REFINE_BEYOND_MM {
-            0
-        } else {
-            STRESS_REFINE
+        let refine = match target.length() > NO_REFINE_BEYOND_MM {
+            true => 0,
+            false => STRESS_REFINE,
         };
+        let overrides = TuningOverrides {
+            refine_budget: Some(refine),
+            ..TuningOverrides::default()
+        };
+        let plan = Plan::resolve(settings, &overrides).expect("valid settings");
         let started = Instant::now();
-        let outcome = design(&target, &request, &AtomicBool::new(false), &mut |_| {});
+        let outcome = design(&target, &plan, &AtomicBool::new(false), &mut |_| {});
         let elapsed = started.elapsed().as_secs_f64();
         match outcome {
             Ok(o) => {

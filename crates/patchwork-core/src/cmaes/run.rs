@@ -25,10 +25,6 @@ pub enum Termination {
     TolX,
     /// The covariance became ill-conditioned (> 1e14) and no restarts remain.
     ConditionCov,
-    /// The design search's best did not improve within its patience
-    /// (`DesignRequest::search_patience`; the design pipeline's stop, not
-    /// CMA-ES's own).
-    Stalled,
 }
 
 /// Run settings.

@@ -121,4 +121,15 @@ impl Design {
     pub fn pressure_mpa(&self) -> f64 {
         self.pressure_kpa * 1e-3
     }
+
+    /// Scales the balloon's length by `ratio`, and the patches' axial
+    /// positions and lengths with it (a design's balloon length is chosen
+    /// after its patches, from mechanics).
+    pub fn stretch_length(&mut self, ratio: f64) {
+        self.balloon.length_mm *= ratio;
+        for p in &mut self.patches {
+            p.y_mm *= ratio;
+            p.h_mm *= ratio;
+        }
+    }
 }

@@ -40,8 +40,9 @@ use std::sync::atomic::Ordering;
 
 use nalgebra::DVector;
 
-use super::pipeline::DesignRunError;
-use super::refine::{RefineProblem, RefineSummary, Refined};
+use super::errors::DesignRunError;
+use super::outcome::RefineSummary;
+use super::refine::{RefineProblem, Refined};
 use crate::curve::Curve;
 use crate::design::Design;
 use crate::fe::{SimulateOptions, Simulation, simulate_from};

@@ -9,10 +9,35 @@ use std::sync::{Arc, Mutex};
 
 use super::evaluation_cache::simulate_cached;
 use super::objective::{ObjectiveOptions, TargetProfiles};
-use super::pipeline::FAILED_SOLVE_PENALTY;
 use super::variables::DesignSpace;
+use crate::cmaes::{Bounds, RunOptions};
 use crate::design::{Design, Patch};
 use crate::fe::{SimulateOptions, Simulation, simulate_from};
+
+/// Objective value given to a candidate whose forward solve failed: worse than
+/// any design that solves (a straight tube scores 1 on the profiles; the shape
+/// term adds at most its weight times the RMS distance over the length).
+pub const FAILED_SOLVE_PENALTY: f64 = 1e6;
+
+/// CMA-ES in the unit cube of the free variables from `start` with step
+/// `sigma`, `budget` evaluations counting the start's own (evaluated before),
+/// shared by the search and the polish.
+pub(super) fn unit_cube_options(
+    start: Vec<f64>,
+    sigma: f64,
+    seed: u64,
+    budget: usize,
+    threads: usize,
+) -> RunOptions {
+    let n = start.len();
+    let mut options = RunOptions::new(start, sigma, seed);
+    options.bounds = Bounds::new(vec![0.0; n], vec![1.0; n]).ok();
+    options.max_evaluations = budget.saturating_sub(1);
+    options.threads = threads.max(1);
+    options.tol_fun = 1e-7;
+    options.tol_x = 1e-6;
+    options
+}
 
 /// What a stage evaluates candidates with.
 pub(super) struct Scorer<'a> {

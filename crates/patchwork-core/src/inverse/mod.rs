@@ -1,26 +1,51 @@
-//! Inverse design: from a target curve to patches (issue 4). The design
-//! variables and their bounds, the objective, and the KSA → CMA-ES → verify
-//! pipeline.
+//! Inverse design: from a target curve to patches. A run is a [`Plan`] of
+//! stages (`plan.rs`), resolved from the user's settings (`settings.rs`)
+//! and a preset (`presets.rs`, a data table) with expert overrides
+//! (`tuning.rs`), and run by the executor (`executor.rs`):
+//!
+//! ```text
+//! seed → search → polish → verify → length → refine (± correction) → final refine
+//! ```
+//!
+//! Each stage is a small type in `stages/`. The numerical pieces they use:
+//! the design variables and their bounds (`variables.rs`), the objective
+//! (`objective.rs`), CMA-ES's incumbent (`incumbent.rs`), the
+//! Levenberg–Marquardt refine (`refine.rs`) and its correction by a finer
+//! model (`correction.rs`).
 
+mod assess;
+mod checkpoint;
 mod correction;
+mod errors;
 pub mod evaluation_cache;
-pub mod fidelity;
+mod executor;
 mod incumbent;
 pub mod limits;
 pub mod objective;
-pub mod pipeline;
-mod polish;
+mod outcome;
+mod plan;
+mod presets;
 mod refine;
 pub mod report;
+mod run;
+mod settings;
+mod stages;
+mod tuning;
 pub mod variables;
 
-pub use fidelity::Fidelity;
+pub use assess::assess;
+pub use checkpoint::DesignCheckpoint;
+pub use errors::{DesignRunError, SettingsError};
+pub use executor::{design, design_resumable};
 pub use limits::AtLimit;
 pub use objective::{ObjectiveOptions, TargetProfiles};
-pub use pipeline::{
-    DesignCheckpoint, DesignHooks, DesignOutcome, DesignProgress, DesignRequest, DesignRunError,
-    FinalRefine, INITIAL_STEP, Metrics, Stage, Start, assess, design, design_resumable,
+pub use outcome::{
+    DesignOutcome, DesignProgress, Metrics, Profiles, RefineSummary, SearchEnd, SearchStop, Stage,
 };
-pub use refine::RefineSummary;
+pub use plan::{Plan, PlannedStage};
+pub use presets::{Fidelity, PRESETS, PresetRow};
 pub use report::DesignReport;
+pub use run::Observer;
+pub use settings::UserSettings;
+pub use tuning::{FinalRefine, INITIAL_STEP, Start, Tuning, TuningOverrides};
 pub use variables::{DesignSpace, Freedom, VariableBounds};

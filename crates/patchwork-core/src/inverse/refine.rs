@@ -56,10 +56,10 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use nalgebra::{DMatrix, DVector};
-use serde::{Deserialize, Serialize};
 
+use super::errors::DesignRunError;
 use super::objective::TargetProfiles;
-use super::pipeline::{DesignRunError, stretch_balloon};
+use super::outcome::RefineSummary;
 use super::variables::{DesignSpace, Freedom, VariableBounds};
 use crate::curve::{AlignedSamples, Curve};
 use crate::design::Design;
@@ -110,36 +110,6 @@ pub(super) struct Refined {
     /// of balloon length), since the next refine's unit cube is centred on
     /// its own start and may span other ranges.
     pub jacobian: Option<DMatrix<f64>>,
-}
-
-/// What the refine did, for the report: the shape error on the verification
-/// model (the correction's model when there is one) before and after it, its
-/// accepted steps and its solves.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct RefineSummary {
-    pub shape_error_before_percent: f64,
-    pub shape_error_after_percent: f64,
-    pub iterations: usize,
-    /// Fresh Jacobians, each counted as one solve when linearised (the
-    /// other steps used Broyden-updated ones).
-    #[serde(default)]
-    pub jacobians: usize,
-    /// Of those, the ones taken by forward differences (`variables` solves
-    /// each), where the state's tangent was not positive definite.
-    #[serde(default)]
-    pub differenced_jacobians: usize,
-    /// Solves on the verification model (the correction's not counted), a
-    /// linearised Jacobian counted as one.
-    pub solves: usize,
-    /// Free variables: the columns of a Jacobian.
-    pub variables: usize,
-    /// Element size of the finer model that corrected the refine and
-    /// verified its result; absent when the refine ran uncorrected.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub corrected_on_element_mm: Option<f64>,
-    /// Solves on that finer model.
-    #[serde(default)]
-    pub correction_solves: usize,
 }
 
 /// A design evaluated by the refine: its unit-cube point, simulation,
@@ -228,7 +198,7 @@ impl RefineProblem<'_> {
         };
         if self.free_length {
             let factor = 1.0 + LENGTH_WINDOW * (2.0 * u[space.dimension()].clamp(0.0, 1.0) - 1.0);
-            stretch_balloon(&mut design, factor);
+            design.stretch_length(factor);
         }
         design
     }

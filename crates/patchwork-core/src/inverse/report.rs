@@ -1,21 +1,11 @@
 //! `design.json`: the serialisable record of a design run, shared by the CLI
-//! and (later) the API.
+//! and the API.
 
 use serde::{Deserialize, Serialize};
 
 use super::limits::AtLimit;
-use super::pipeline::{DesignOutcome, Metrics};
-use super::refine::RefineSummary;
-use crate::cmaes::Termination;
+use super::outcome::{DesignOutcome, Metrics, Profiles, RefineSummary, SearchEnd};
 use crate::design::Design;
-
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Profiles {
-    pub target_curvature_per_mm: Vec<f64>,
-    pub target_torsion_per_mm: Vec<f64>,
-    pub curvature_per_mm: Vec<f64>,
-    pub torsion_per_mm: Vec<f64>,
-}
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DesignReport {
@@ -35,7 +25,7 @@ pub struct DesignReport {
     pub uninflated_length_to_cut_mm: f64,
     pub evaluations: usize,
     pub elapsed_s: f64,
-    pub termination: Termination,
+    pub termination: SearchEnd,
     /// The refine's shape error before and after, steps and solves (absent
     /// when it did not run).
     #[serde(default, skip_serializing_if = "Option::is_none")]

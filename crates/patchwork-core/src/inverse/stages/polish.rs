@@ -7,11 +7,59 @@
 
 use std::sync::atomic::Ordering;
 
-use super::incumbent::{Incumbent, Scorer};
-use super::pipeline::{DesignRunError, unit_cube_options};
+use super::super::errors::DesignRunError;
+use super::super::incumbent::{Incumbent, Scorer, unit_cube_options};
+use super::super::outcome::Stage;
+use super::super::run::{Context, Run};
+use super::RunStage;
 use crate::cmaes::Optimizer;
 use crate::design::{Design, Patch};
 use crate::fe::Simulation;
+
+/// The polish stage: CMA-ES on the verification model from the search's best
+/// design (off in every preset: the refine does the job better).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Polish {
+    /// Evaluations, the start's included.
+    pub budget: usize,
+}
+
+impl RunStage for Polish {
+    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+        if run.space.dimension() == 0 || self.budget <= 1 {
+            return Ok(());
+        }
+        let state = &run.state;
+        let start = match &state.optimizer {
+            Some(o) if o.best_fitness <= state.best_objective => o.best_x.clone(),
+            _ => run.space.seed_point(),
+        };
+        let spent = state.evaluations;
+        let scorer = Scorer {
+            space: &run.space,
+            base: &state.base,
+            model: &run.verify_model,
+            profiles: &run.profiles,
+            objective: &run.tuning.objective,
+            warm_starts: run.tuning.warm_starts,
+            cancel: ctx.cancel,
+        };
+        let polished = polish(
+            &scorer,
+            start,
+            self.budget,
+            run.settings.seed.wrapping_add(1),
+            run.settings.threads,
+            &mut |generation, evaluations, best, sigma| {
+                ctx.report(Stage::Polish, generation, spent + evaluations, best, sigma)
+            },
+        )?;
+        run.design.patches = polished.patches;
+        run.polished = polished.simulation;
+        run.state.evaluations += polished.evaluations;
+        Ok(())
+    }
+}
 
 /// Initial step of the polish in the unit cube (the search's default is
 /// `INITIAL_STEP`, 0.2): it starts from a good design.
@@ -20,7 +68,7 @@ const POLISH_SIGMA: f64 = 0.05;
 /// The polish's result: the best design on the fine model (the start itself
 /// if nothing beat it), its simulation there (reused as the verification),
 /// and the evaluations spent.
-pub(super) struct Polished {
+struct Polished {
     pub patches: Vec<Patch>,
     pub simulation: Option<Simulation>,
     pub evaluations: usize,
@@ -29,7 +77,7 @@ pub(super) struct Polished {
 /// Runs the polish from unit-cube point `start` with `budget` evaluations
 /// (the start's own included); `on_generation(generation, evaluations, best,
 /// σ)` hears every generation.
-pub(super) fn polish(
+fn polish(
     scorer: &Scorer<'_>,
     start: Vec<f64>,
     budget: usize,

@@ -1,0 +1,56 @@
+//! Metrics of a simulated design against the target: the shape error
+//! (aligned RMS distance), the objective, and DTW of κ(s) and τ(s).
+
+use super::evaluation_cache::simulate_cached;
+use super::objective::{ObjectiveOptions, SHAPE_SAMPLES, TargetProfiles};
+use super::outcome::{Metrics, Profiles};
+use super::tuning::Tuning;
+use crate::curve::{Curve, dtw, shape_error};
+use crate::design::Design;
+use crate::fe::mesh::MeshSpec;
+use crate::fe::{SimulateError, SimulateOptions, Simulation};
+
+/// Metrics of `design` against `target` on a model of the caller's choice —
+/// to compare designs found at different fidelities on one common model
+/// (`tuning` gives the rings and the objective).
+pub fn assess(
+    target: &Curve,
+    design: &Design,
+    mesh: MeshSpec,
+    tuning: &Tuning,
+) -> Result<Metrics, SimulateError> {
+    let options = SimulateOptions {
+        mesh,
+        rings: tuning.rings,
+        ..SimulateOptions::default()
+    };
+    let simulation = simulate_cached(design, &options)?;
+    let profiles = TargetProfiles::new(target, tuning.rings, &tuning.objective);
+    Ok(verified(&profiles, &simulation, &tuning.objective).0)
+}
+
+/// Metrics and profiles of a verified simulation, each computed once.
+pub(super) fn verified(
+    target: &TargetProfiles,
+    sim: &Simulation,
+    options: &ObjectiveOptions,
+) -> (Metrics, Profiles) {
+    let shape = shape_error(&sim.centreline, &target.curve, SHAPE_SAMPLES).ok();
+    let (curvature, torsion) = target.profiles_of(&sim.centreline, options);
+    let metrics = Metrics {
+        objective: target.mismatch(&sim.centreline, &curvature, &torsion, options),
+        dtw_curvature: dtw(&curvature, &target.curvature, None).unwrap_or(f64::INFINITY),
+        dtw_torsion: dtw(&torsion, &target.torsion, None).unwrap_or(f64::INFINITY),
+        shape_error_mm: shape.as_ref().map_or(f64::INFINITY, |e| e.rms_mm),
+        shape_error_percent: shape
+            .as_ref()
+            .map_or(f64::INFINITY, |e| e.percent_of_length),
+    };
+    let profiles = Profiles {
+        target_curvature_per_mm: target.curvature.clone(),
+        target_torsion_per_mm: target.torsion.clone(),
+        curvature_per_mm: curvature,
+        torsion_per_mm: torsion,
+    };
+    (metrics, profiles)
+}

@@ -1,0 +1,77 @@
+//! The executor: runs a plan's stages in order on one run and one context
+//! (cancel flag, clock, observer), then assembles the outcome from the
+//! verified simulation.
+
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+use super::assess::verified;
+use super::checkpoint::DesignCheckpoint;
+use super::errors::DesignRunError;
+use super::limits::at_limits;
+use super::outcome::{DesignOutcome, DesignProgress};
+use super::plan::Plan;
+use super::run::{Context, Observer, Run, Setup};
+use crate::curve::Curve;
+
+/// Runs the plan from the start; `observer` hears every stage and
+/// generation.
+pub fn design(
+    target: &Curve,
+    plan: &Plan,
+    cancel: &AtomicBool,
+    mut observer: &mut dyn FnMut(&DesignProgress),
+) -> Result<DesignOutcome, DesignRunError> {
+    design_resumable(target, plan, None, cancel, &mut observer)
+}
+
+/// Runs the plan, from `resume` when given (a checkpoint of a run of the
+/// same target and plan), handing checkpoints to the observer as it goes.
+/// A cancelled run's last checkpoint is the generation before the
+/// cancellation.
+pub fn design_resumable(
+    target: &Curve,
+    plan: &Plan,
+    resume: Option<DesignCheckpoint>,
+    cancel: &AtomicBool,
+    observer: &mut dyn Observer,
+) -> Result<DesignOutcome, DesignRunError> {
+    let earlier_s = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
+    let mut ctx = Context::new(cancel, observer, earlier_s);
+    let setup = Setup::new(target, plan.settings(), plan.tuning());
+    let mut run = plan.seed().run(setup, resume, &mut ctx)?;
+    for stage in plan.stages() {
+        stage.stage().run(&mut run, &mut ctx)?;
+    }
+    outcome(run, &ctx)
+}
+
+/// The outcome of a run whose stages are done.
+fn outcome(mut run: Run<'_>, ctx: &Context<'_>) -> Result<DesignOutcome, DesignRunError> {
+    let simulation = run.take_verified("outcome")?;
+    let (metrics, profiles) = verified(&run.profiles, &simulation, &run.tuning.objective);
+    let state = run.state;
+    Ok(DesignOutcome {
+        at_limits: at_limits(&run.design.patches, &run.settings.bounds),
+        profiles,
+        inflated_length_mm: simulation.inflated_length_mm,
+        uninflated_length_to_cut_mm: run.design.balloon.length_mm,
+        seed_design: crate::design::Design {
+            patches: state.seed_patches.clone(),
+            ..state.base.clone()
+        },
+        design: run.design,
+        simulation,
+        metrics,
+        seed_objective: state.seed_objective,
+        search_objective: state.best_objective,
+        target_length_mm: run.target.length(),
+        evaluations: state.evaluations,
+        termination: run.termination,
+        refine: run.refine,
+        final_refine: run.final_refine,
+        final_refine_skipped: run.final_refine_skipped,
+        verified_on: run.verified_on,
+        elapsed: Duration::from_secs_f64(ctx.elapsed_s()),
+    })
+}

@@ -1,0 +1,153 @@
+//! What a design run reports: progress while it runs, and its outcome.
+
+use std::time::Duration;
+
+use serde::{Deserialize, Serialize};
+
+use super::limits::AtLimit;
+use crate::cmaes::Termination;
+use crate::design::Design;
+use crate::fe::Simulation;
+use crate::fe::mesh::MeshSpec;
+
+/// The stages as reported to observers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    Seed,
+    Search,
+    /// The coarse-to-fine polish on the verification model.
+    Polish,
+    Verify,
+    /// Levenberg–Marquardt on the shape error (the final refine's included).
+    Refine,
+}
+
+/// Progress reported to the observer.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DesignProgress {
+    pub stage: Stage,
+    pub generation: usize,
+    pub evaluations: usize,
+    pub best_objective: f64,
+    pub sigma: f64,
+    pub elapsed_s: f64,
+}
+
+/// Why the search ended: CMA-ES's own stop, or the search's patience.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum SearchEnd {
+    Optimizer(Termination),
+    Search(SearchStop),
+}
+
+/// The search's own stops, beside CMA-ES's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SearchStop {
+    /// The best design did not improve within the search's patience.
+    Stalled,
+}
+
+impl SearchEnd {
+    pub const STALLED: SearchEnd = SearchEnd::Search(SearchStop::Stalled);
+}
+
+impl std::fmt::Display for SearchEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SearchEnd::Optimizer(termination) => write!(f, "{termination:?}"),
+            SearchEnd::Search(stop) => write!(f, "{stop:?}"),
+        }
+    }
+}
+
+/// How well the final design matches the target (on the model it was
+/// verified on).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Metrics {
+    pub objective: f64,
+    pub dtw_curvature: f64,
+    pub dtw_torsion: f64,
+    pub shape_error_mm: f64,
+    pub shape_error_percent: f64,
+}
+
+/// Target and verified κ, τ on the objective's sampling.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Profiles {
+    pub target_curvature_per_mm: Vec<f64>,
+    pub target_torsion_per_mm: Vec<f64>,
+    pub curvature_per_mm: Vec<f64>,
+    pub torsion_per_mm: Vec<f64>,
+}
+
+/// What a refine did, for the report: the shape error on its model (the
+/// correction's model when there is one) before and after it, its accepted
+/// steps and its solves.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RefineSummary {
+    pub shape_error_before_percent: f64,
+    pub shape_error_after_percent: f64,
+    pub iterations: usize,
+    /// Fresh Jacobians, each counted as one solve when linearised (the
+    /// other steps used Broyden-updated ones).
+    #[serde(default)]
+    pub jacobians: usize,
+    /// Of those, the ones taken by forward differences (`variables` solves
+    /// each), where the state's tangent was not positive definite.
+    #[serde(default)]
+    pub differenced_jacobians: usize,
+    /// Solves on the refine's model (the correction's not counted), a
+    /// linearised Jacobian counted as one.
+    pub solves: usize,
+    /// Free variables: the columns of a Jacobian.
+    pub variables: usize,
+    /// Element size of the finer model that corrected the refine and
+    /// verified its result; absent when the refine ran uncorrected.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corrected_on_element_mm: Option<f64>,
+    /// Solves on that finer model.
+    #[serde(default)]
+    pub correction_solves: usize,
+}
+
+/// The result of a design run.
+#[derive(Debug, Clone)]
+pub struct DesignOutcome {
+    pub design: Design,
+    pub seed_design: Design,
+    /// The verified simulation of `design`.
+    pub simulation: Simulation,
+    /// Metrics of the verified simulation.
+    pub metrics: Metrics,
+    pub profiles: Profiles,
+    /// Objective of the KSA seed and of the best design, both on the search
+    /// model (comparable with each other, not with `metrics.objective`).
+    pub seed_objective: f64,
+    pub search_objective: f64,
+    pub target_length_mm: f64,
+    pub inflated_length_mm: f64,
+    /// The uninflated balloon length to cut (= design.balloon.length_mm).
+    pub uninflated_length_to_cut_mm: f64,
+    pub evaluations: usize,
+    pub termination: SearchEnd,
+    /// What the refine did; none when it did not run.
+    pub refine: Option<RefineSummary>,
+    /// What the final refine on the finest model did (standard, fine); none
+    /// when the plan has none, or when it could not start.
+    pub final_refine: Option<RefineSummary>,
+    /// Why a planned final refine did not run: its model could not solve
+    /// the refine's result. The design, simulation and metrics are then the
+    /// refine's, on `verified_on`.
+    pub final_refine_skipped: Option<String>,
+    /// The mesh of `simulation`, on which `metrics` were taken: the final
+    /// refine's, the correction's (when the refine ran corrected) or the
+    /// verification model's.
+    pub verified_on: MeshSpec,
+    /// Patch sizes and angles on (or beyond) a fabrication limit of the
+    /// bounds: the target may want what the bounds forbid.
+    pub at_limits: Vec<AtLimit>,
+    pub elapsed: Duration,
+}

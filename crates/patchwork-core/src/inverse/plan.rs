@@ -1,0 +1,222 @@
+//! The plan of a design run, and the resolver that makes it: (user
+//! settings, preset, tuning overrides) → the complete tuning, checked field
+//! by field → the list of stages. The CLI and the API both resolve through
+//! [`Plan::resolve`], so the same request gives the same plan.
+//!
+//! A plan always reads, with the stages its tuning leaves out skipped:
+//!
+//! ```text
+//! seed → search → polish → verify → length → refine (± correction) → final refine
+//! ```
+
+use super::errors::SettingsError;
+use super::settings::UserSettings;
+use super::stages::{
+    FinalRefineStage, LengthCorrection, Polish, Refine, RunStage, Search, Seed, Verify,
+};
+use super::tuning::{Tuning, TuningOverrides};
+
+/// One stage after the seed, with its own budget.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PlannedStage {
+    Search(Search),
+    Polish(Polish),
+    Verify(Verify),
+    Length(LengthCorrection),
+    Refine(Refine),
+    FinalRefine(FinalRefineStage),
+}
+
+impl PlannedStage {
+    pub fn name(&self) -> &'static str {
+        match self {
+            PlannedStage::Search(_) => "search",
+            PlannedStage::Polish(_) => "polish",
+            PlannedStage::Verify(_) => "verify",
+            PlannedStage::Length(_) => "length",
+            PlannedStage::Refine(_) => "refine",
+            PlannedStage::FinalRefine(_) => "final refine",
+        }
+    }
+
+    pub(super) fn stage(&self) -> &dyn RunStage {
+        match self {
+            PlannedStage::Search(stage) => stage,
+            PlannedStage::Polish(stage) => stage,
+            PlannedStage::Verify(stage) => stage,
+            PlannedStage::Length(stage) => stage,
+            PlannedStage::Refine(stage) => stage,
+            PlannedStage::FinalRefine(stage) => stage,
+        }
+    }
+}
+
+/// A checked design run: the user's settings, the complete tuning, and the
+/// stages they make. Only the resolver builds one, so every plan is valid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    settings: UserSettings,
+    tuning: Tuning,
+    seed: Seed,
+    stages: Vec<PlannedStage>,
+}
+
+impl Plan {
+    /// The plan of `settings` under its fidelity's preset with `overrides`
+    /// laid over it.
+    pub fn resolve(
+        settings: UserSettings,
+        overrides: &TuningOverrides,
+    ) -> Result<Plan, SettingsError> {
+        check_overrides(overrides)?;
+        let preset = settings.fidelity.tuning(settings.base.balloon.radius_mm);
+        let tuning = overrides.apply(preset);
+        Plan::with_tuning(settings, tuning)
+    }
+
+    /// The plan of `settings` with a complete `tuning` of the caller's (the
+    /// settings' fidelity is then only a label).
+    pub fn with_tuning(settings: UserSettings, tuning: Tuning) -> Result<Plan, SettingsError> {
+        check(&settings, &tuning)?;
+        let stages = stages(&settings, &tuning);
+        Ok(Plan {
+            settings,
+            tuning,
+            seed: Seed,
+            stages,
+        })
+    }
+
+    pub fn settings(&self) -> &UserSettings {
+        &self.settings
+    }
+
+    pub fn tuning(&self) -> &Tuning {
+        &self.tuning
+    }
+
+    pub fn seed(&self) -> &Seed {
+        &self.seed
+    }
+
+    /// The stages after the seed, in order.
+    pub fn stages(&self) -> &[PlannedStage] {
+        &self.stages
+    }
+
+    /// The search's evaluations, the seed's included.
+    pub fn search_budget(&self) -> usize {
+        self.settings.budget.unwrap_or(self.tuning.search_budget)
+    }
+
+    /// Every evaluation the plan may spend: search, polish and refine.
+    pub fn total_budget(&self) -> usize {
+        self.search_budget() + self.tuning.polish_budget + self.tuning.refine_budget
+    }
+
+    /// The stage names, seed first: `seed → search → verify → …`.
+    pub fn describe(&self) -> String {
+        std::iter::once("seed")
+            .chain(self.stages.iter().map(PlannedStage::name))
+            .collect::<Vec<_>>()
+            .join(" → ")
+    }
+}
+
+/// The stages of `tuning`, each with its budget. The refine on the
+/// verification model spends at most the final refine's staging solves
+/// when there is one, and the final refine the rest.
+fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<PlannedStage> {
+    let mut stages = Vec::new();
+    let budget = settings.budget.unwrap_or(tuning.search_budget);
+    if budget > 1 {
+        stages.push(PlannedStage::Search(Search {
+            budget,
+            patience: tuning.search_patience,
+            initial_step: tuning.initial_step,
+        }));
+    }
+    if tuning.polish_budget > 1 {
+        stages.push(PlannedStage::Polish(Polish {
+            budget: tuning.polish_budget,
+        }));
+    }
+    stages.push(PlannedStage::Verify(Verify));
+    if !settings.fix_length {
+        stages.push(PlannedStage::Length(LengthCorrection));
+    }
+    let refine_solves = match tuning.final_refine {
+        Some(last) => tuning.refine_budget.min(last.staging_solves),
+        None => tuning.refine_budget,
+    };
+    if refine_solves > 0 {
+        stages.push(PlannedStage::Refine(Refine {
+            solves: refine_solves,
+            correction: tuning.correction_mesh,
+        }));
+    }
+    if let Some(refine) = tuning.final_refine {
+        stages.push(PlannedStage::FinalRefine(FinalRefineStage {
+            refine,
+            shared_solves: tuning.refine_budget,
+        }));
+    }
+    stages
+}
+
+/// The overrides' own ranges, before they are laid over a preset.
+fn check_overrides(overrides: &TuningOverrides) -> Result<(), SettingsError> {
+    if let Some(mesh_mm) = overrides.uniform_mesh_mm
+        && !(mesh_mm.is_finite() && mesh_mm > 0.0)
+    {
+        return Err(SettingsError::new(
+            "uniform_mesh_mm",
+            format!("must be a positive number, got {mesh_mm}"),
+        ));
+    }
+    Ok(())
+}
+
+/// Every setting a run would otherwise fail on late, naming the field.
+fn check(settings: &UserSettings, tuning: &Tuning) -> Result<(), SettingsError> {
+    crate::design::Design {
+        patches: vec![],
+        ..settings.base.clone()
+    }
+    .validate()
+    .map_err(|e| SettingsError::new(format!("design.{}", e.field), e.reason))?;
+    if settings.budget == Some(0) {
+        return Err(SettingsError::new("budget", "must be at least 1"));
+    }
+    if settings.threads == 0 {
+        return Err(SettingsError::new("threads", "must be at least 1"));
+    }
+    settings
+        .bounds
+        .validate()
+        .map_err(|e| SettingsError::new(format!("bounds.{}", e.field), e.to_string()))?;
+    tuning
+        .objective
+        .validate()
+        .map_err(|(field, reason)| SettingsError::new(format!("objective.{field}"), reason))?;
+    let step = tuning.initial_step;
+    if !(step.is_finite() && step > 0.0 && step <= 1.0) {
+        return Err(SettingsError::new(
+            "initial_step",
+            format!("must be in (0, 1] (a fraction of each variable's range), got {step}"),
+        ));
+    }
+    let radius = settings.base.balloon.radius_mm;
+    let meshes = [
+        ("search_mesh", Some(tuning.search_mesh)),
+        ("verify_mesh", Some(tuning.verify_mesh)),
+        ("correction_mesh", tuning.correction_mesh),
+        ("final_refine.mesh", tuning.final_refine.map(|f| f.mesh)),
+    ];
+    for (field, mesh) in meshes {
+        if let Some(Err(reason)) = mesh.map(|m| m.validate(radius)) {
+            return Err(SettingsError::new(field, reason));
+        }
+    }
+    Ok(())
+}

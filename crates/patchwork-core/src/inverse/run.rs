@@ -1,0 +1,212 @@
+//! What every stage works with: the run's state (the checkpoint, the design
+//! so far and its verified simulation, what each stage reported) and the
+//! context (cancel flag, clock, observer).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use nalgebra::DMatrix;
+
+use super::checkpoint::DesignCheckpoint;
+use super::errors::DesignRunError;
+use super::objective::TargetProfiles;
+use super::outcome::{DesignProgress, RefineSummary, SearchEnd, Stage};
+use super::settings::UserSettings;
+use super::tuning::Tuning;
+use super::variables::{DesignSpace, VariableBounds};
+use crate::cmaes::Termination;
+use crate::curve::Curve;
+use crate::design::Design;
+use crate::fe::mesh::MeshSpec;
+use crate::fe::{SimulateOptions, Simulation};
+
+/// How a caller watches a run: progress of every stage and generation, and
+/// a checkpoint after the seed and after every search generation. Any
+/// `FnMut(&DesignProgress)` is an observer that ignores checkpoints.
+pub trait Observer {
+    fn progress(&mut self, progress: &DesignProgress);
+
+    fn checkpoint(&mut self, checkpoint: &DesignCheckpoint) {
+        let _ = checkpoint;
+    }
+}
+
+impl<F: FnMut(&DesignProgress)> Observer for F {
+    fn progress(&mut self, progress: &DesignProgress) {
+        self(progress)
+    }
+}
+
+/// What the executor hands every stage besides the run: the cancel flag
+/// (polled before every evaluation), the clock, and the observer.
+pub struct Context<'a> {
+    pub cancel: &'a AtomicBool,
+    observer: &'a mut dyn Observer,
+    started: Instant,
+    /// Seconds spent by earlier processes on a resumed run.
+    earlier_s: f64,
+}
+
+impl<'a> Context<'a> {
+    pub fn new(cancel: &'a AtomicBool, observer: &'a mut dyn Observer, earlier_s: f64) -> Self {
+        Context {
+            cancel,
+            observer,
+            started: Instant::now(),
+            earlier_s,
+        }
+    }
+
+    /// Wall time of the run so far, over every process that ran it.
+    pub fn elapsed_s(&self) -> f64 {
+        self.earlier_s + self.started.elapsed().as_secs_f64()
+    }
+
+    pub fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+
+    /// `Err(Cancelled)` once the run is cancelled.
+    pub fn check_cancelled(&self) -> Result<(), DesignRunError> {
+        match self.cancelled() {
+            true => Err(DesignRunError::Cancelled),
+            false => Ok(()),
+        }
+    }
+
+    pub fn report(
+        &mut self,
+        stage: Stage,
+        generation: usize,
+        evaluations: usize,
+        best_objective: f64,
+        sigma: f64,
+    ) {
+        let progress = DesignProgress {
+            stage,
+            generation,
+            evaluations,
+            best_objective,
+            sigma,
+            elapsed_s: self.elapsed_s(),
+        };
+        self.observer.progress(&progress);
+    }
+
+    /// Stamps the state with the elapsed time and hands it to the observer.
+    pub fn checkpoint(&mut self, state: &mut DesignCheckpoint) {
+        state.elapsed_s = self.elapsed_s();
+        self.observer.checkpoint(state);
+    }
+}
+
+/// What a run knows before its seed: the target, the settings and the
+/// models they define.
+pub struct Setup<'a> {
+    pub target: &'a Curve,
+    pub settings: &'a UserSettings,
+    pub tuning: &'a Tuning,
+    pub profiles: TargetProfiles,
+    pub search_model: SimulateOptions,
+    pub verify_model: SimulateOptions,
+}
+
+impl<'a> Setup<'a> {
+    pub fn new(target: &'a Curve, settings: &'a UserSettings, tuning: &'a Tuning) -> Setup<'a> {
+        Setup {
+            target,
+            settings,
+            tuning,
+            profiles: TargetProfiles::new(target, tuning.rings, &tuning.objective),
+            search_model: tuning.model(tuning.search_mesh),
+            verify_model: tuning.model(tuning.verify_mesh),
+        }
+    }
+}
+
+/// A design run's state between stages. The seed stage creates it; each
+/// later stage reads what it needs and leaves its result.
+pub struct Run<'a> {
+    pub target: &'a Curve,
+    pub settings: &'a UserSettings,
+    pub tuning: &'a Tuning,
+    pub profiles: TargetProfiles,
+    pub search_model: SimulateOptions,
+    pub verify_model: SimulateOptions,
+    /// What a checkpoint holds: the balloon, the seed, the search's state
+    /// and best design, the evaluations spent.
+    pub state: DesignCheckpoint,
+    /// The free variables around the seed, and the bounds they were built
+    /// from (the whole balloon for an unseeded start).
+    pub space: DesignSpace,
+    pub bounds: VariableBounds,
+    /// The incumbent's inflated state on the search model, to warm the
+    /// search's solves (only with warm starts).
+    pub warm_start: Option<Simulation>,
+    pub termination: SearchEnd,
+    /// The design so far: the search's best, then each later stage's.
+    pub design: Design,
+    /// The polish's best design simulated on the verification model (the
+    /// verification reuses it).
+    pub polished: Option<Simulation>,
+    /// `design` simulated on `verified_on`, once the verify stage ran.
+    pub verified: Option<Simulation>,
+    pub verified_on: MeshSpec,
+    pub refine: Option<RefineSummary>,
+    /// The refine's last Jacobian, per unit of each variable, for the final
+    /// refine to start from.
+    pub jacobian: Option<DMatrix<f64>>,
+    pub final_refine: Option<RefineSummary>,
+    pub final_refine_skipped: Option<String>,
+}
+
+impl<'a> Run<'a> {
+    /// A run whose seed is known: `state` from the seed stage or a
+    /// checkpoint, `space` and `bounds` around its seed.
+    pub fn new(
+        setup: Setup<'a>,
+        state: DesignCheckpoint,
+        (space, bounds): (DesignSpace, VariableBounds),
+    ) -> Run<'a> {
+        let Setup {
+            target,
+            settings,
+            tuning,
+            profiles,
+            search_model,
+            verify_model,
+        } = setup;
+        Run {
+            target,
+            settings,
+            tuning,
+            profiles,
+            search_model,
+            verify_model,
+            design: state.best_design(),
+            state,
+            space,
+            bounds,
+            warm_start: None,
+            termination: SearchEnd::Optimizer(Termination::MaxEvaluations),
+            polished: None,
+            verified: None,
+            verified_on: tuning.verify_mesh,
+            refine: None,
+            jacobian: None,
+            final_refine: None,
+            final_refine_skipped: None,
+        }
+    }
+
+    /// The verified simulation of `design`, taken to be replaced; an error
+    /// if no verify stage ran before the caller's (a plan the resolver does
+    /// not build).
+    pub fn take_verified(&mut self, stage: &str) -> Result<Simulation, DesignRunError> {
+        self.verified.take().ok_or_else(|| {
+            DesignRunError::Plan(format!(
+                "the {stage} stage needs the verify stage before it"
+            ))
+        })
+    }
+}

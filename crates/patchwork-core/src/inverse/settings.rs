@@ -1,0 +1,43 @@
+//! What a user chooses for a design run: the balloon and materials, the
+//! fidelity, the seed, the search budget, the fabrication bounds, which
+//! patch parameters may move, whether the balloon length is fixed, and the
+//! threads. Everything else is expert tuning (`tuning.rs`), fixed by the
+//! fidelity's preset (`presets.rs`).
+
+use super::presets::Fidelity;
+use super::variables::{Freedom, VariableBounds};
+use crate::design::Design;
+
+/// A user's choices for a design run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UserSettings {
+    /// Balloon, patch material and pressure (its `patches` are ignored).
+    pub base: Design,
+    pub fidelity: Fidelity,
+    pub seed: u64,
+    /// Forward evaluations of the search; none: the preset's.
+    pub budget: Option<usize>,
+    /// Fabrication limits and search windows.
+    pub bounds: VariableBounds,
+    pub freedom: Freedom,
+    /// Keep `base.balloon.length_mm`; otherwise the length is chosen so the
+    /// inflated balloon is as long as the target.
+    pub fix_length: bool,
+    /// Threads evaluating a search generation or a Jacobian's columns.
+    pub threads: usize,
+}
+
+impl Default for UserSettings {
+    fn default() -> Self {
+        UserSettings {
+            base: Design::reference(vec![]),
+            fidelity: Fidelity::default(),
+            seed: 1,
+            budget: None,
+            bounds: VariableBounds::default(),
+            freedom: Freedom::default(),
+            fix_length: false,
+            threads: 1,
+        }
+    }
+}

@@ -1,0 +1,30 @@
+//! Length correction: the balloon length was chosen for the seed, and the
+//! best design's patches stretch differently. Scale it once more (patch
+//! positions and lengths with it) so the verified inflated length matches
+//! the target's, and verify the corrected design.
+
+use super::super::errors::DesignRunError;
+use super::super::evaluation_cache::simulate_cached;
+use super::super::run::{Context, Run};
+use super::RunStage;
+
+/// Relative mismatch of inflated and target length left uncorrected.
+const LENGTH_TOLERANCE: f64 = 1e-3;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LengthCorrection;
+
+impl RunStage for LengthCorrection {
+    fn run(&self, run: &mut Run<'_>, _ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+        let simulation = run.take_verified("length correction")?;
+        let ratio = run.target.length() / simulation.inflated_length_mm;
+        run.verified = Some(simulation);
+        if (ratio - 1.0).abs() > LENGTH_TOLERANCE {
+            run.design.stretch_length(ratio);
+            let corrected =
+                simulate_cached(&run.design, &run.verify_model).map_err(DesignRunError::Verify)?;
+            run.verified = Some(corrected);
+        }
+        Ok(())
+    }
+}

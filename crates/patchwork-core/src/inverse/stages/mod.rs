@@ -1,0 +1,29 @@
+//! The stages of a design run, one small type each with its own budget.
+//! The seed stage creates the run; every later stage implements
+//! [`RunStage`]: it reads what it needs from the [`Run`] and leaves its
+//! result there. A new stage is a new file here, a variant of
+//! `plan::PlannedStage`, and a line in `Plan::with_tuning` where it goes.
+
+mod final_refine;
+mod length;
+mod polish;
+mod refine;
+mod search;
+mod seed;
+mod verify;
+
+pub use final_refine::FinalRefineStage;
+pub use length::LengthCorrection;
+pub use polish::Polish;
+pub use refine::Refine;
+pub use search::Search;
+pub use seed::Seed;
+pub use verify::Verify;
+
+use super::errors::DesignRunError;
+use super::run::{Context, Run};
+
+/// One stage after the seed.
+pub trait RunStage {
+    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError>;
+}

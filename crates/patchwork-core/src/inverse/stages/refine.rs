@@ -1,0 +1,87 @@
+//! The refine stage: Levenberg–Marquardt on the shape error on the
+//! verification model from the design so far (`refine.rs`), its aim
+//! corrected by a finer model when the plan has one (`correction.rs`), which
+//! then verifies its result.
+
+use std::sync::atomic::AtomicBool;
+
+use super::super::errors::DesignRunError;
+use super::super::outcome::{RefineSummary, Stage};
+use super::super::refine::{RefineProblem, Refined};
+use super::super::run::{Context, Run};
+use super::RunStage;
+use crate::fe::Simulation;
+use crate::fe::mesh::MeshSpec;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Refine {
+    /// Solves on the verification model (a linearised Jacobian counts one).
+    pub solves: usize,
+    /// The finer model that corrects the refine's aim and verifies.
+    pub correction: Option<MeshSpec>,
+}
+
+impl RunStage for Refine {
+    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+        if run.space.dimension() == 0 || self.solves == 0 {
+            return Ok(());
+        }
+        let simulation = run.take_verified("refine")?;
+        let problem = refine_problem(run, ctx.cancel);
+        let spent = run.state.evaluations;
+        let (profiles, objective) = (&run.profiles, &run.tuning.objective);
+        let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
+            let best = profiles.objective(&simulation.centreline, objective);
+            ctx.report(Stage::Refine, iteration, spent + evaluations, best, 0.0)
+        };
+        let design = run.design.clone();
+        let refined = match self.correction {
+            Some(mesh) => problem.refine_corrected(
+                &run.tuning.model(mesh),
+                design,
+                simulation,
+                self.solves,
+                &mut on_progress,
+            )?,
+            None => problem.refine(design, simulation, self.solves, None, &mut on_progress)?,
+        };
+        let Refined {
+            design,
+            simulation,
+            summary,
+            jacobian,
+        } = refined;
+        // A corrected refine verifies on its finer model.
+        if let (
+            Some(mesh),
+            Some(RefineSummary {
+                corrected_on_element_mm: Some(_),
+                ..
+            }),
+        ) = (self.correction, summary)
+        {
+            run.verified_on = mesh;
+        }
+        run.design = design;
+        run.verified = Some(simulation);
+        run.jacobian = jacobian;
+        run.refine = summary;
+        run.state.evaluations += summary.map_or(0, |s| s.solves);
+        Ok(())
+    }
+}
+
+/// The refine's problem on the run's verification model, its bounds and
+/// freedom, with the length free unless the user fixed it.
+pub(super) fn refine_problem<'r>(run: &'r Run<'_>, cancel: &'r AtomicBool) -> RefineProblem<'r> {
+    RefineProblem {
+        model: &run.verify_model,
+        target: &run.profiles,
+        freedom: run.settings.freedom,
+        bounds: &run.bounds,
+        free_length: !run.settings.fix_length,
+        correction: None,
+        threads: run.settings.threads,
+        cancel,
+    }
+}

@@ -1,0 +1,195 @@
+//! The seed: KSA's patches on a balloon whose length comes from mechanics
+//! (or, on resumption, the checkpoint's state), evaluated on the search
+//! model.
+
+use super::super::checkpoint::DesignCheckpoint;
+use super::super::errors::DesignRunError;
+use super::super::evaluation_cache::simulate_cached;
+use super::super::incumbent::score;
+use super::super::outcome::Stage;
+use super::super::run::{Context, Run, Setup};
+use super::super::tuning::{Start, Tuning};
+use super::super::variables::{DesignSpace, Freedom, VariableBounds};
+use crate::curve::Curve;
+use crate::design::{Design, Patch};
+use crate::fe::tube_theory::inflate_tube;
+use crate::ksa::{KsaParams, Stretch, ksa};
+
+/// The first stage: it creates the run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Seed;
+
+impl Seed {
+    /// The run with its seed: from `resume` when given (a checkpoint of a
+    /// run of the same target and plan), else KSA's seed, checkpointed.
+    pub fn run<'a>(
+        &self,
+        setup: Setup<'a>,
+        resume: Option<DesignCheckpoint>,
+        ctx: &mut Context<'_>,
+    ) -> Result<Run<'a>, DesignRunError> {
+        let (settings, tuning) = (setup.settings, setup.tuning);
+        let evaluate = |design: &Design| {
+            score(
+                design,
+                &setup.search_model,
+                &setup.profiles,
+                &tuning.objective,
+                None,
+            )
+        };
+        let (state, warm_start) = match resume {
+            Some(mut state) => {
+                // A checkpoint from before the patience existed does not
+                // know when its best last improved: count from the resume,
+                // so the search is not stopped at once.
+                if state.improved_at == 0 {
+                    state.improved_at = state.evaluations;
+                }
+                // The incumbent's state warms the next solves, as it did
+                // before (one extra solve, only when warm starts are on).
+                let warm = match tuning.warm_starts {
+                    true => evaluate(&state.best_design()).1,
+                    false => None,
+                };
+                (state, warm)
+            }
+            None => {
+                ctx.report(Stage::Seed, 0, 0, f64::NAN, 0.0);
+                let mut base = Design {
+                    patches: vec![],
+                    ..settings.base.clone()
+                };
+                base = seeded_balloon(base, settings.fix_length, &setup)?;
+                if tuning.start == Start::Even {
+                    base.patches = spread_evenly(&base, base.patches.len(), &settings.bounds);
+                }
+                let seed_patches = std::mem::take(&mut base.patches);
+                let seed_design = Design {
+                    patches: seed_patches.clone(),
+                    ..base.clone()
+                };
+                let (seed_objective, seed_simulation) = evaluate(&seed_design);
+                let mut state = DesignCheckpoint {
+                    base,
+                    best_patches: seed_patches.clone(),
+                    seed_patches,
+                    seed_objective,
+                    optimizer: None,
+                    best_objective: seed_objective,
+                    evaluations: 1,
+                    improved_at: 1,
+                    elapsed_s: 0.0,
+                };
+                ctx.checkpoint(&mut state);
+                (state, seed_simulation)
+            }
+        };
+        let space = design_space(&state, settings.freedom, &settings.bounds, tuning.start)?;
+        let mut run = Run::new(setup, state, space);
+        run.warm_start = warm_start;
+        Ok(run)
+    }
+}
+
+/// The free variables around the seed, and the bounds they come from: the
+/// user's around KSA's seed, the whole balloon for an unseeded start.
+fn design_space(
+    state: &DesignCheckpoint,
+    freedom: Freedom,
+    bounds: &VariableBounds,
+    start: Start,
+) -> Result<(DesignSpace, VariableBounds), DesignRunError> {
+    let balloon = &state.base.balloon;
+    let bounds = match start {
+        Start::Ksa => *bounds,
+        Start::Even => bounds.spanning(balloon.length_mm, balloon.radius_mm),
+    };
+    let space = DesignSpace::new(
+        state.seed_patches.clone(),
+        freedom,
+        &bounds,
+        balloon.length_mm,
+    )
+    .map_err(DesignRunError::Variables)?;
+    Ok((space, bounds))
+}
+
+/// The balloon with its length chosen and the KSA seed as its patches.
+fn seeded_balloon(
+    base: Design,
+    fix_length: bool,
+    setup: &Setup<'_>,
+) -> Result<Design, DesignRunError> {
+    let target = setup.target;
+    let b = &base.balloon;
+    let state = inflate_tube(&b.material, base.pressure_mpa(), b.radius_mm, b.wall_mm).ok_or(
+        DesignRunError::NoTubeState {
+            pressure_kpa: base.pressure_kpa,
+        },
+    )?;
+    let target_length = target.length();
+    // Balloon length from mechanics: the bare tube stretches by λ₂ axially.
+    let mut length = match fix_length {
+        true => b.length_mm,
+        false => target_length / state.axial,
+    };
+    let mut seed_patches = ksa_seed(target, &base, length, setup.tuning)?;
+    if !fix_length {
+        // Patches stretch less than bare wall, and the mesh is not the
+        // membrane theory: correct the length once from a simulation of the
+        // seed (even with no patches), scaling patch positions and lengths
+        // with it. The length to cut comes from the most accurate model of
+        // the run (the verification mesh): the coarse search mesh's
+        // polygonal section understates the axial stretch by several
+        // percent.
+        let mut trial = Design {
+            patches: seed_patches.clone(),
+            ..base.clone()
+        };
+        trial.balloon.length_mm = length;
+        let sim = simulate_cached(&trial, &setup.verify_model).map_err(DesignRunError::Seed)?;
+        trial.stretch_length(target_length / sim.inflated_length_mm);
+        length = trial.balloon.length_mm;
+        seed_patches = trial.patches;
+    }
+    let mut seeded = Design {
+        patches: seed_patches,
+        ..base
+    };
+    seeded.balloon.length_mm = length;
+    Ok(seeded)
+}
+
+/// `count` patches spread evenly along the balloon: the unseeded start.
+fn spread_evenly(balloon: &Design, count: usize, bounds: &VariableBounds) -> Vec<Patch> {
+    let length = balloon.balloon.length_mm;
+    (0..count)
+        .map(|i| Patch {
+            x_mm: 0.0,
+            y_mm: (i as f64 + 0.5) * length / count as f64,
+            h_mm: 0.5 * (bounds.h_min_mm + bounds.h_max_mm),
+            w_mm: 0.5 * (bounds.w_min_mm + bounds.w_max_mm),
+            theta_deg: 0.0,
+        })
+        .collect()
+}
+
+/// KSA patches for a balloon of `length`, mapping the whole target onto it.
+fn ksa_seed(
+    target: &Curve,
+    base: &Design,
+    length: f64,
+    tuning: &Tuning,
+) -> Result<Vec<Patch>, DesignRunError> {
+    let params = KsaParams {
+        l0_mm: length,
+        r0_mm: base.balloon.radius_mm,
+        kappa_tol: tuning.kappa_tol,
+        merge_mm: tuning.merge_mm,
+        width_mm: tuning.width_mm,
+        stretch: Stretch::Fixed(target.length() / length),
+        ..KsaParams::default()
+    };
+    Ok(ksa(target, &params).map_err(DesignRunError::Ksa)?.patches)
+}

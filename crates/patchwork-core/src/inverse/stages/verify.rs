@@ -1,0 +1,33 @@
+//! Verification: the design so far simulated on the verification model (the
+//! polish's simulation when it ran), on which the later stages start.
+
+use super::super::errors::DesignRunError;
+use super::super::evaluation_cache::simulate_cached;
+use super::super::outcome::Stage;
+use super::super::run::{Context, Run};
+use super::RunStage;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Verify;
+
+impl RunStage for Verify {
+    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+        let state = &run.state;
+        ctx.report(
+            Stage::Verify,
+            0,
+            state.evaluations,
+            state.best_objective,
+            0.0,
+        );
+        let simulation = match run.polished.take() {
+            Some(simulation) => simulation,
+            None => {
+                simulate_cached(&run.design, &run.verify_model).map_err(DesignRunError::Verify)?
+            }
+        };
+        run.verified = Some(simulation);
+        run.verified_on = run.tuning.verify_mesh;
+        Ok(())
+    }
+}

@@ -1,0 +1,187 @@
+//! Expert tuning: everything a preset fixes (meshes, budgets, patience, the
+//! objective's form, the correction, the polish, where the search starts),
+//! and the overrides an expert may lay over a preset. Users choose a
+//! fidelity instead (`presets.rs`); the resolver (`plan.rs`) combines the
+//! two.
+
+use serde::{Deserialize, Serialize};
+
+use super::objective::ObjectiveOptions;
+use crate::fe::SimulateOptions;
+use crate::fe::mesh::MeshSpec;
+use crate::fe::newton::NewtonOptions;
+
+/// Default initial CMA-ES step in the unit cube.
+pub const INITIAL_STEP: f64 = 0.2;
+
+/// Every tuning value of a run. [`Default`] is a plain search: 600
+/// evaluations on a uniform 2 mm model, verified on uniform 1 mm, with no
+/// refine, correction or final refine; the presets set those.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tuning {
+    /// Forward evaluations of the search, unless the user sets a budget.
+    pub search_budget: usize,
+    /// The search ends once this many evaluations have passed without
+    /// improving its best design (0: never).
+    pub search_patience: usize,
+    /// CMA-ES's initial step σ₀ in the unit cube of the free variables (each
+    /// variable's range maps to [0, 1]).
+    pub initial_step: f64,
+    /// Where CMA-ES starts: from KSA's patches (the method), or unseeded.
+    pub start: Start,
+    /// Start each search solve from the best design's inflated state instead
+    /// of the candidate's own kinematic estimate (for CMA-ES-sized steps the
+    /// kinematic start converges in fewer Newton iterations).
+    pub warm_starts: bool,
+    pub objective: ObjectiveOptions,
+    pub search_mesh: MeshSpec,
+    pub verify_mesh: MeshSpec,
+    /// Cross-section rings of the centreline.
+    pub rings: usize,
+    /// KSA's curvature tolerance, merge distance and default width.
+    pub kappa_tol: f64,
+    pub merge_mm: f64,
+    pub width_mm: f64,
+    /// Evaluations of a CMA-ES polish on the verification model after the
+    /// search (0 or 1: none). Not checkpointed: a resumed run repeats it.
+    pub polish_budget: usize,
+    /// Solves of the Levenberg–Marquardt refine on the shape error, the final
+    /// refine's included (0: none). Not checkpointed.
+    pub refine_budget: usize,
+    /// A finer model that corrects the refine's aim and verifies its result
+    /// (output space mapping, `correction.rs`); none: the refine and the
+    /// verification are the verification model's.
+    pub correction_mesh: Option<MeshSpec>,
+    /// A last refine on a finer model still, from the refine's result (and
+    /// its Jacobian), on which the design is then verified.
+    pub final_refine: Option<FinalRefine>,
+}
+
+impl Default for Tuning {
+    fn default() -> Self {
+        Tuning {
+            search_budget: 600,
+            search_patience: 0,
+            initial_step: INITIAL_STEP,
+            start: Start::Ksa,
+            warm_starts: false,
+            objective: ObjectiveOptions::default(),
+            search_mesh: MeshSpec::uniform(2.0),
+            verify_mesh: MeshSpec::uniform(1.0),
+            rings: 72,
+            kappa_tol: 0.01,
+            merge_mm: 20.0,
+            width_mm: 1.5,
+            polish_budget: 0,
+            refine_budget: 0,
+            correction_mesh: None,
+            final_refine: None,
+        }
+    }
+}
+
+impl Tuning {
+    /// The forward model on `mesh` with this run's rings.
+    pub fn model(&self, mesh: MeshSpec) -> SimulateOptions {
+        SimulateOptions {
+            mesh,
+            rings: self.rings,
+            ..SimulateOptions::default()
+        }
+    }
+}
+
+/// The final refine: Levenberg–Marquardt on the shape error on `mesh`, from
+/// the result of the refine on the verification model, which may spend at
+/// most `staging_solves` of the refine budget (the final one the rest).
+/// `newton` limits its model's solves. If that model cannot solve the
+/// refine's result, the run does not fail: the refine's result stands,
+/// verified on its own model, and the outcome says why.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FinalRefine {
+    pub mesh: MeshSpec,
+    pub staging_solves: usize,
+    pub newton: NewtonOptions,
+}
+
+/// Where the search starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Start {
+    /// KSA's patches, with bounds as windows around them.
+    #[default]
+    Ksa,
+    /// Unseeded, to measure what the seed is worth: as many patches as KSA
+    /// found, spread evenly along the balloon with mid-range sizes, X = 0 and
+    /// Θ = 0, each free over the whole balloon (X around the whole
+    /// circumference, Y along the whole length, Θ within its limit). The
+    /// balloon is the seeded run's (its length corrected from a simulation
+    /// of KSA's seed), so that both starts search the same balloon.
+    Even,
+}
+
+impl std::str::FromStr for Start {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        match text {
+            "ksa" => Ok(Start::Ksa),
+            "even" => Ok(Start::Even),
+            _ => Err(format!("unknown start {text:?}: choose one of ksa, even")),
+        }
+    }
+}
+
+/// What an expert lays over a preset: each field given replaces the
+/// preset's value. The CLI's research flags and the API's job options are
+/// translated into this, so both front ends resolve through one path.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TuningOverrides {
+    pub search_patience: Option<usize>,
+    pub initial_step: Option<f64>,
+    pub start: Option<Start>,
+    pub warm_starts: Option<bool>,
+    pub objective: Option<ObjectiveOptions>,
+    /// Uniform meshes of this element size for the search, half of it for
+    /// the refine and the verification, with no correction and no final
+    /// refine (applied before the other mesh fields).
+    pub uniform_mesh_mm: Option<f64>,
+    pub polish_budget: Option<usize>,
+    pub refine_budget: Option<usize>,
+    /// false: no correction of the refine by a finer model.
+    pub correction: Option<bool>,
+    /// false: no final refine.
+    pub final_refine: Option<bool>,
+}
+
+impl TuningOverrides {
+    /// `tuning` with every given field replaced.
+    pub fn apply(&self, mut tuning: Tuning) -> Tuning {
+        if let Some(mesh_mm) = self.uniform_mesh_mm {
+            tuning.search_mesh = MeshSpec::uniform(mesh_mm);
+            tuning.verify_mesh = MeshSpec::uniform(mesh_mm / 2.0);
+            tuning.correction_mesh = None;
+            tuning.final_refine = None;
+        }
+        let set = |slot: &mut usize, value: Option<usize>| {
+            if let Some(value) = value {
+                *slot = value;
+            }
+        };
+        set(&mut tuning.search_patience, self.search_patience);
+        set(&mut tuning.polish_budget, self.polish_budget);
+        set(&mut tuning.refine_budget, self.refine_budget);
+        tuning.initial_step = self.initial_step.unwrap_or(tuning.initial_step);
+        tuning.start = self.start.unwrap_or(tuning.start);
+        tuning.warm_starts = self.warm_starts.unwrap_or(tuning.warm_starts);
+        tuning.objective = self.objective.unwrap_or(tuning.objective);
+        if self.correction == Some(false) {
+            tuning.correction_mesh = None;
+        }
+        if self.final_refine == Some(false) {
+            tuning.final_refine = None;
+        }
+        tuning
+    }
+}
