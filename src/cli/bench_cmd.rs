@@ -178,8 +178,8 @@ fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
             fidelity.refine_budget(),
         )
     };
-    // The presets run as users get them (cold starts, the default since the
-    // warm start stopped paying); one row measures warm starts against that,
+    // The presets run as users get them (cold starts, the default); one row
+    // measures warm starts against that,
     // one the coarse search alone (no coarse-to-fine refine), and one the
     // refine without its finer model's correction.
     let settings = vec![
@@ -255,8 +255,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
                     ..UserSettings::default()
                 };
                 let plan = Plan::resolve(settings, &setting.overrides())?;
-                // Each run is timed as a fresh process would run it.
-                patchwork_core::inverse::evaluation_cache::clear();
+                // Each run is timed as a fresh process would run it: with
+                // caches of its own.
                 let started = Instant::now();
                 match design(target, &plan, &AtomicBool::new(false), &mut |_| {}) {
                     Ok(o) => {
@@ -317,11 +317,6 @@ pub fn run(args: BenchArgs) -> Result<()> {
             command.push_str(&format!(" --{flag} {}", values.join(",")));
         }
     }
-    let cache = patchwork_core::inverse::evaluation_cache::counts();
-    eprintln!(
-        "evaluation cache: {} hits, {} misses (cold solves only; warm-started ones bypass it)",
-        cache.hits, cache.misses
-    );
     let table = table(&rows, &command);
     std::fs::write(args.out.join("bench.md"), &table)?;
     std::fs::write(args.out.join("bench.svg"), plot(&rows))?;

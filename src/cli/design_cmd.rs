@@ -10,8 +10,9 @@ use clap::Args;
 use patchwork_core::design::Design;
 use patchwork_core::fabrication::design_files;
 use patchwork_core::inverse::{
-    DesignCheckpoint, DesignProgress, DesignReport, Fidelity, ObjectiveOptions, Observer, Plan,
-    RefineSummary, SettingsError, Stage, Start, TuningOverrides, UserSettings, design_resumable,
+    Caches, DesignCheckpoint, DesignProgress, DesignReport, Fidelity, ObjectiveOptions, Observer,
+    Plan, RefineSummary, SettingsError, Stage, Start, TuningOverrides, UserSettings,
+    design_resumable,
 };
 
 use super::input::{CurveInput, read_text_argument};
@@ -260,7 +261,14 @@ pub fn run(args: DesignArgs) -> Result<()> {
         checkpoint: args.checkpoint.as_deref(),
         save_error: None,
     };
-    let outcome = design_resumable(&target, &plan, resume, &cancel, &mut observer)?;
+    let outcome = design_resumable(
+        &target,
+        &plan,
+        resume,
+        &Caches::default(),
+        &cancel,
+        &mut observer,
+    )?;
     if let Some(e) = observer.save_error {
         return Err(e);
     }

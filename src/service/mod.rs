@@ -77,6 +77,7 @@ async fn serve(config: Config) -> Result<()> {
         wake: Default::default(),
         shutting_down: Default::default(),
         counters: Default::default(),
+        caches: Default::default(),
         config,
     });
     let app = app(state.clone());

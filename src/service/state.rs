@@ -7,6 +7,8 @@ use std::sync::{Arc, Mutex};
 
 use tokio::sync::{Notify, broadcast};
 
+use patchwork_core::inverse::Caches;
+
 use super::config::Config;
 use super::store::{Store, StoredEvent};
 
@@ -22,6 +24,9 @@ pub struct Shared {
     pub wake: Notify,
     pub shutting_down: AtomicBool,
     pub counters: Counters,
+    /// Solves the design jobs share: a job run again finds its cold solves,
+    /// and jobs on one mesh topology its tangent pattern.
+    pub caches: Arc<Caches>,
 }
 
 /// Why a running job is being stopped.

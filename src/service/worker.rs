@@ -117,6 +117,7 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
     let (tx, mut rx) = mpsc::unbounded_channel();
     let seed = prepared.plan.settings().seed;
     let span = tracing::Span::current();
+    let caches = state.caches.clone();
     let compute = {
         let control = control.clone();
         tokio::task::spawn_blocking(move || {
@@ -125,6 +126,7 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
                 &prepared.target,
                 &prepared.plan,
                 resume,
+                &caches,
                 &control.cancel,
                 &mut ChannelObserver(tx),
             )

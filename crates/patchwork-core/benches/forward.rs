@@ -10,8 +10,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use patchwork_core::curve::ReferenceCurve;
 use patchwork_core::design::{Design, Patch};
 use patchwork_core::fe::mesh::MeshSpec;
-use patchwork_core::fe::newton::forget_recent_patterns;
-use patchwork_core::fe::{SimulateOptions, simulate, simulate_from};
+use patchwork_core::fe::newton::PatternCache;
+use patchwork_core::fe::{SimulateOptions, simulate_from, simulate_with};
 use patchwork_core::ksa::{KsaParams, ksa};
 
 fn hilbert_design() -> Design {
@@ -51,21 +51,22 @@ fn bench(c: &mut Criterion) {
             mesh: MeshSpec::uniform(h),
             ..SimulateOptions::default()
         };
+        let patterns = PatternCache::default();
         group.bench_function(format!("cold_{h}mm"), |b| {
-            b.iter(|| simulate(&design, &options).expect("converges"))
+            b.iter(|| simulate_with(&design, &options, None, &patterns).expect("converges"))
         });
         group.bench_function(format!("cold_{h}mm_new_mesh"), |b| {
-            b.iter(|| {
-                forget_recent_patterns();
-                simulate(&design, &options).expect("converges")
-            })
+            b.iter(|| simulate_from(&design, &options, None).expect("converges"))
         });
     }
     let options = SimulateOptions::default();
-    let converged = simulate(&design, &options).expect("converges");
+    let patterns = PatternCache::default();
+    let converged = simulate_with(&design, &options, None, &patterns).expect("converges");
     let candidate = neighbour(&design);
     group.bench_function("warm_2mm", |b| {
-        b.iter(|| simulate_from(&candidate, &options, Some(&converged)).expect("converges"))
+        b.iter(|| {
+            simulate_with(&candidate, &options, Some(&converged), &patterns).expect("converges")
+        })
     });
     group.finish();
 }

@@ -100,7 +100,6 @@ fn main() {
             tuning.correction_mesh = correction;
         }
         let plan = Plan::with_tuning(settings, tuning).expect("valid settings");
-        patchwork_core::inverse::evaluation_cache::clear();
         let started = Instant::now();
         let mut observer = |p: &DesignProgress| {
             if progress {

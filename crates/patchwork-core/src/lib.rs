@@ -1,5 +1,6 @@
 //! Patchwork's numerical core: target curves, the Kinematic Segmentation
-//! Algorithm (KSA), and (later) the membrane finite-element model and CMA-ES.
+//! Algorithm (KSA), the nonlinear membrane finite-element model, the solvers
+//! (CMA-ES, Levenberg–Marquardt) and the inverse design that runs them.
 //!
 //! This crate is deliberately free of async, web and database dependencies so the
 //! CLI, the HTTP service and the benchmarks all share one tested implementation.
@@ -14,6 +15,7 @@ pub mod fabrication;
 pub mod fe;
 pub mod inverse;
 pub mod ksa;
+pub mod least_squares;
 pub mod material;
 mod parallel;
 

@@ -16,8 +16,8 @@ use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::newton::NewtonOptions;
 use patchwork_core::fe::{SimulateOptions, simulate};
 use patchwork_core::inverse::{
-    FinalRefine, ObjectiveOptions, Plan, SearchEnd, Stage, Tuning, UserSettings, VariableBounds,
-    assess, design,
+    Caches, FinalRefine, ObjectiveOptions, Plan, SearchEnd, Stage, Tuning, UserSettings,
+    VariableBounds, assess, design,
 };
 
 /// A run's settings and tuning in one flat struct, as these tests vary them
@@ -549,7 +549,8 @@ fn a_run_resumes_from_a_serialised_checkpoint() {
     let cancel = AtomicBool::new(false);
     let plan = request.plan();
     let mut saving = Saving(Vec::new());
-    let whole = design_resumable(&target, &plan, None, &cancel, &mut saving).unwrap();
+    let caches = Caches::default();
+    let whole = design_resumable(&target, &plan, None, &caches, &cancel, &mut saving).unwrap();
     let saved = saving.0;
     // The seed and one checkpoint per generation (population 8 for 5 variables).
     assert!(saved.len() >= 5, "{} checkpoints", saved.len());
@@ -559,6 +560,7 @@ fn a_run_resumes_from_a_serialised_checkpoint() {
         &target,
         &plan,
         Some(checkpoint.clone()),
+        &Caches::default(),
         &cancel,
         &mut |p: &DesignProgress| {
             if p.stage == Stage::Search && first_search.is_none() {
@@ -622,12 +624,12 @@ fn polish_stage_runs_on_the_verification_model() {
     assert!(after.metrics.objective <= before.metrics.objective + 1e-12);
 }
 
-/// A job run again (a retry, a re-submitted request) repeats its search
-/// exactly and finds every simulation in the evaluation cache: the same
-/// outcome to the bit, with no new solve.
+/// A job run again (a retry, a re-submitted request) with the caches of the
+/// first repeats its search exactly and finds every cold simulation in the
+/// evaluation cache: the same outcome to the bit, with no new cold solve.
 #[test]
 fn a_repeated_run_is_served_from_the_evaluation_cache() {
-    use patchwork_core::inverse::evaluation_cache;
+    use patchwork_core::inverse::{DesignProgress, design_resumable};
     let (base, target) = small_target();
     let request = Request {
         base,
@@ -637,19 +639,22 @@ fn a_repeated_run_is_served_from_the_evaluation_cache() {
         verify_mesh: MeshSpec::uniform(2.0),
         ..Request::default()
     };
+    let caches = Caches::default();
     let run = || {
-        design(
+        design_resumable(
             &target,
             &request.plan(),
+            None,
+            &caches,
             &AtomicBool::new(false),
-            &mut |_| {},
+            &mut |_: &DesignProgress| {},
         )
         .unwrap()
     };
     let first = run();
-    let before = evaluation_cache::counts();
+    let before = caches.evaluations.counts();
     let again = run();
-    let after = evaluation_cache::counts();
+    let after = caches.evaluations.counts();
     println!(
         "first run {:.2} s, repeated run {:.3} s; cache hits {} → {}",
         first.elapsed.as_secs_f64(),
@@ -663,8 +668,8 @@ fn a_repeated_run_is_served_from_the_evaluation_cache() {
         first.metrics.objective.to_bits()
     );
     assert_eq!(again.evaluations, first.evaluations);
-    // Every evaluation, the seed's length correction and the verification
-    // (tests running beside this one may add hits of their own, never remove).
+    assert_eq!(after.misses, before.misses, "no new cold solve");
+    // Every evaluation, the seed's length correction and the verification.
     assert!(
         after.hits - before.hits >= first.evaluations + 2,
         "{} hits for {} evaluations",

@@ -12,16 +12,6 @@ use std::path::{Path, PathBuf};
 
 const MAX_LINES: usize = 500;
 
-/// What the restructuring has not reached yet (issue 26): these exact
-/// findings are tolerated, any other fails, and one that disappears must be
-/// struck from this list.
-const KNOWN: [&str; 4] = [
-    "fe::section → fe::laminate → fe::element → fe::section",
-    "fe::simulate → fe::carry → fe::simulate",
-    "fe/newton.rs",
-    "inverse/refine.rs",
-];
-
 /// Every `.rs` file under `dir`, by module path (`["fe", "newton"]`;
 /// `mod.rs` and `lib.rs` by their folder's path).
 fn modules(root: &Path) -> BTreeMap<Vec<String>, PathBuf> {
@@ -169,19 +159,12 @@ fn absolute(
 fn the_core_has_no_import_cycles_and_no_file_over_500_lines() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let (graph, cycles, long) = structure(&root);
-    let known = |finding: &String| KNOWN.iter().any(|k| finding.contains(k));
-    let new: Vec<&String> = cycles.iter().chain(&long).filter(|f| !known(f)).collect();
     assert!(
-        new.is_empty(),
+        cycles.is_empty() && long.is_empty(),
         "import cycles:\n  {}\nfiles over {MAX_LINES} lines:\n  {}",
         cycles.join("\n  "),
         long.join("\n  ")
     );
-    let gone: Vec<&&str> = KNOWN
-        .iter()
-        .filter(|k| !cycles.iter().chain(&long).any(|f| f.contains(*k)))
-        .collect();
-    assert!(gone.is_empty(), "fixed, strike from KNOWN: {gone:?}");
     // The check sees real edges (a sanity check on the parser).
     let newton = vec!["fe".to_string(), "newton".to_string()];
     assert!(graph.values().any(|targets| targets.contains(&newton)));

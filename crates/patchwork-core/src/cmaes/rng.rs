@@ -67,6 +67,44 @@ impl SeededRng {
 mod tests {
     use super::*;
 
+    /// The reference outputs of xoshiro256++ from the state {1, 2, 3, 4}
+    /// (Blackman & Vigna's xoshiro256plusplus.c, as checked by the
+    /// rand_xoshiro crate and other ports).
+    #[test]
+    fn xoshiro256plusplus_matches_the_reference_outputs() {
+        let mut rng = SeededRng {
+            state: [1, 2, 3, 4],
+            spare: None,
+        };
+        let expected: [u64; 10] = [
+            41943041,
+            58720359,
+            3588806011781223,
+            3591011842654386,
+            9228616714210784205,
+            9973669472204895162,
+            14011001112246962877,
+            12406186145184390807,
+            15849039046786891736,
+            10450023813501588000,
+        ];
+        for value in expected {
+            assert_eq!(rng.next_u64(), value);
+        }
+    }
+
+    /// SplitMix64 from seed 0 gives the published first outputs
+    /// 0xe220a8397b1dcdaf, 0x6e789e6aa1b965f4, 0x06c45d188009454f: the
+    /// seeding is the standard one.
+    #[test]
+    fn seeding_is_splitmix64() {
+        let rng = SeededRng::new(0);
+        assert_eq!(
+            rng.state[..3],
+            [0xe220a8397b1dcdaf, 0x6e789e6aa1b965f4, 0x06c45d188009454f]
+        );
+    }
+
     #[test]
     fn normals_have_unit_moments_and_seeds_reproduce() {
         let mut rng = SeededRng::new(7);

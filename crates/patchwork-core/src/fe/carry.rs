@@ -25,20 +25,17 @@
 
 use super::centreline::ring_points;
 use super::mesh::TubeMesh;
-use super::simulate::Simulation;
 use crate::curve::Point;
 
-/// `previous`'s converged positions carried onto `mesh`; none if the balloon
-/// radius differs.
-pub(super) fn carried_state(previous: &Simulation, mesh: &TubeMesh) -> Option<Vec<Point>> {
-    let old = &previous.mesh;
-    let x = &previous.positions;
+/// Converged positions `x` on mesh `old` carried onto `mesh`; none if the
+/// balloon radius differs.
+pub(super) fn carried_state(old: &TubeMesh, x: &[Point], mesh: &TubeMesh) -> Option<Vec<Point>> {
     if old.radius != mesh.radius {
         return None;
     }
     if old.ring_y == mesh.ring_y && old.around == mesh.around && old.nodes.len() == mesh.nodes.len()
     {
-        return Some(x.clone());
+        return Some(x.to_vec());
     }
     let scale = old.length / mesh.length;
     let mut carried = Vec::with_capacity(mesh.nodes.len());

@@ -18,14 +18,6 @@ use super::section::Section;
 use crate::curve::Point;
 use crate::material::Material;
 
-/// One material layer of an element: which material, and its thickness times
-/// the fraction of the element it covers (mm).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Layer {
-    pub material: usize,
-    pub thickness: f64,
-}
-
 /// Geometry of a reference triangle, computed once.
 #[derive(Debug, Clone)]
 pub struct Triangle {

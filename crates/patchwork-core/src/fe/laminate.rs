@@ -41,9 +41,16 @@
 //! Tests check ψ's derivatives against finite differences and ψ against a
 //! one-dimensional laminate solved independently.
 
-use super::element::Layer;
 use crate::material::hyper::Real;
 use crate::material::{Hyper, Material, Response};
+
+/// One material layer of an element: which material, and its thickness times
+/// the fraction of the element it covers (mm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Layer {
+    pub material: usize,
+    pub thickness: f64,
+}
 
 /// The two phases of a cut element and their interface.
 #[derive(Debug, Clone, PartialEq)]

@@ -29,4 +29,6 @@ mod tangent_factor;
 pub mod tube_theory;
 pub mod volume_control;
 
-pub use simulate::{SimulateError, SimulateOptions, Simulation, simulate, simulate_from};
+pub use simulate::{
+    SimulateError, SimulateOptions, Simulation, simulate, simulate_from, simulate_with,
+};

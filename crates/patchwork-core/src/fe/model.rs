@@ -6,7 +6,8 @@
 
 use faer::sparse::Pair;
 
-use super::element::{Layer, Triangle};
+use super::element::Triangle;
+use super::laminate::Layer;
 use super::mesh::TubeMesh;
 use super::overlap::{Interface, patch_cut};
 use super::pressure::{volume, volume_gradient, volume_hessian};

@@ -13,8 +13,7 @@
 //! normal all move continuously except the normal where c = 0, which then has
 //! no weight.
 
-use super::element::Layer;
-use super::laminate::Laminate;
+use super::laminate::{Laminate, Layer};
 use crate::design::{Bonding, Design};
 use crate::material::{Material, Response};
 

@@ -28,7 +28,7 @@
 use super::centreline::rings;
 use super::mesh::TubeMesh;
 use super::model::Model;
-use super::newton::Solver;
+use super::newton::{PatternCache, Solver};
 use super::simulate::{SimulateOptions, Simulation};
 use crate::curve::{Curve, Point};
 use crate::design::Design;
@@ -46,6 +46,7 @@ pub fn linearised_centrelines(
     options: &SimulateOptions,
     changes: &[Design],
     threads: usize,
+    patterns: &PatternCache,
 ) -> Option<Vec<Option<Curve>>> {
     let mesh = &simulation.mesh;
     if changes.iter().any(|d| d.balloon.radius_mm != mesh.radius) {
@@ -66,7 +67,7 @@ pub fn linearised_centrelines(
         .into_iter()
         .map(|c| c.map_or((None, None), |(mesh, load)| (Some(mesh), Some(load))))
         .unzip();
-    let mut responses = Solver::new(&model)
+    let mut responses = Solver::new(&model, patterns)
         .ok()?
         .linear_responses(&model, x, loads.into_iter().flatten().collect())?
         .into_iter();
@@ -129,9 +130,15 @@ mod tests {
         options: &SimulateOptions,
         change: &Design,
     ) -> Curve {
-        let mut one =
-            linearised_centrelines(base, simulation, options, std::slice::from_ref(change), 1)
-                .expect("a stable state");
+        let mut one = linearised_centrelines(
+            base,
+            simulation,
+            options,
+            std::slice::from_ref(change),
+            1,
+            &PatternCache::default(),
+        )
+        .expect("a stable state");
         one.pop().flatten().expect("a linearised centreline")
     }
 

@@ -8,7 +8,7 @@ use super::centreline::{Ring, rings};
 use super::kinematic::kinematic_state;
 use super::mesh::{MeshSpec, TubeMesh};
 use super::model::Model;
-use super::newton::{NewtonOptions, SolveError, SolveStats, Solver};
+use super::newton::{NewtonOptions, PatternCache, SolveError, SolveStats, Solver};
 use super::section::CutElements;
 use super::tube_theory::{TubeState, inflate_tube};
 use crate::curve::{AnalysisOptions, Curve, Point, analyse};
@@ -109,6 +109,18 @@ pub fn simulate_from(
     options: &SimulateOptions,
     previous: Option<&Simulation>,
 ) -> Result<Simulation, SimulateError> {
+    simulate_with(design, options, previous, &PatternCache::default())
+}
+
+/// [`simulate_from`], the mesh's tangent pattern taken from `patterns` (or
+/// built and stored there): a sequence of solves on meshes of one topology
+/// pays the pattern's setup once.
+pub fn simulate_with(
+    design: &Design,
+    options: &SimulateOptions,
+    previous: Option<&Simulation>,
+    patterns: &PatternCache,
+) -> Result<Simulation, SimulateError> {
     let started = Instant::now();
     design.validate()?;
     options
@@ -129,7 +141,7 @@ pub fn simulate_from(
     let mesh = TubeMesh::for_design(design, options.mesh);
     let model = Model::new(design, mesh, options.cut_elements);
     let setup = Instant::now();
-    let solver = Solver::new(&model).map_err(|reason| SimulateError::Solve {
+    let solver = Solver::new(&model, patterns).map_err(|reason| SimulateError::Solve {
         stiffness: 0.0,
         reason,
     })?;
@@ -140,7 +152,7 @@ pub fn simulate_from(
     // A neighbour's converged state (if given), then the kinematic (bent)
     // start, each at full patch stiffness; if Newton fails from both, the
     // straight tube and continuation.
-    let warm = previous.and_then(|p| carried_state(p, &model.mesh));
+    let warm = previous.and_then(|p| carried_state(&p.mesh, &p.positions, &model.mesh));
     let kinematic = std::iter::once_with(|| {
         (!design.patches.is_empty())
             .then(|| kinematic_state(design, &model.mesh, tube_state, KINEMATIC_SCALE))

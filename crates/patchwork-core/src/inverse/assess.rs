@@ -1,14 +1,13 @@
 //! Metrics of a simulated design against the target: the shape error
 //! (aligned RMS distance), the objective, and DTW of κ(s) and τ(s).
 
-use super::evaluation_cache::simulate_cached;
 use super::objective::{ObjectiveOptions, SHAPE_SAMPLES, TargetProfiles};
 use super::outcome::{Metrics, Profiles};
 use super::tuning::Tuning;
 use crate::curve::{Curve, dtw, shape_error};
 use crate::design::Design;
 use crate::fe::mesh::MeshSpec;
-use crate::fe::{SimulateError, SimulateOptions, Simulation};
+use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate};
 
 /// Metrics of `design` against `target` on a model of the caller's choice —
 /// to compare designs found at different fidelities on one common model
@@ -24,7 +23,7 @@ pub fn assess(
         rings: tuning.rings,
         ..SimulateOptions::default()
     };
-    let simulation = simulate_cached(design, &options)?;
+    let simulation = simulate(design, &options)?;
     let profiles = TargetProfiles::new(target, tuning.rings, &tuning.objective);
     Ok(verified(&profiles, &simulation, &tuning.objective).0)
 }

@@ -45,17 +45,15 @@ use super::outcome::RefineSummary;
 use super::refine::{RefineProblem, Refined};
 use crate::curve::Curve;
 use crate::design::Design;
-use crate::fe::{SimulateOptions, Simulation, simulate_from};
+use crate::fe::{SimulateOptions, Simulation};
 
 /// Rounds of correction (each one finer solve and a share of the refine's
 /// budget); a round that does not lower the finer model's shape error ends
-/// them. Three since the fourteenth session: each round takes the
-/// correction afresh at the last round's result, and a third round took
-/// draft (medians of three, BENCHMARKS.md "Fourteenth session") from 0.14
-/// to 0.13 % on the Hilbert curve, 0.65 to 0.59 % on the pancake, 1.23 to
-/// 1.10 % on the spring and 1.89 to 1.72 % on the trefoil, for one more
-/// finer solve (1–2.5 s); in single runs a fourth bought nothing (Hilbert
-/// 0.134 → 0.137 %, pancake 0.592 → 0.582 %).
+/// them. Each round takes the correction afresh at the last round's result;
+/// measured under draft (medians of three), a third round takes the Hilbert
+/// curve from 0.14 to 0.13 %, the pancake from 0.65 to 0.59 %, the spring
+/// from 1.23 to 1.10 % and the trefoil from 1.89 to 1.72 % for one more
+/// finer solve (1–2.5 s), and a fourth buys nothing.
 pub const CORRECTION_ROUNDS: usize = 3;
 
 /// A design simulated on the finer model, with its residuals there (their
@@ -67,111 +65,123 @@ struct Verified {
     error: f64,
 }
 
-impl RefineProblem<'_> {
-    /// Refines `start` (simulated on the verification model as `simulation`)
-    /// with at most `budget` solves of it, corrected by `finer`; see the
-    /// module comment. A failed finer solve ends the rounds (the best design
-    /// verified so far stands); if the first one fails, the refine runs
-    /// uncorrected.
-    pub fn refine_corrected(
-        &self,
-        finer: &SimulateOptions,
-        start: Design,
-        simulation: Simulation,
-        budget: usize,
-        on_progress: &mut dyn FnMut(usize, usize, &Simulation),
-    ) -> Result<Refined, DesignRunError> {
-        let verify = |design: &Design, warm: Option<&Simulation>| -> Option<Verified> {
-            if self.cancel.load(Ordering::Relaxed) {
-                return None;
-            }
-            let simulation = simulate_from(design, finer, warm).ok()?;
-            let residuals = self.residuals(&simulation.centreline)?;
-            Some(Verified {
-                design: design.clone(),
-                simulation,
-                error: residuals.norm(),
-                residuals,
-            })
+/// Refines `start` (simulated on `problem`'s verification model as
+/// `simulation`) with at most `budget` solves of it, corrected by `finer`;
+/// see the module comment. A failed finer solve ends the rounds (the best
+/// design verified so far stands); if the first one fails, the refine runs
+/// uncorrected.
+pub(super) fn refine_corrected(
+    problem: &RefineProblem<'_>,
+    finer: &SimulateOptions,
+    start: Design,
+    simulation: Simulation,
+    budget: usize,
+    on_progress: &mut dyn FnMut(usize, usize, &Simulation),
+) -> Result<Refined, DesignRunError> {
+    let Some(mut best) = verify(problem, finer, &start, Some(&simulation)) else {
+        check_cancelled(problem)?;
+        return problem.refine(start, simulation, budget, None, on_progress);
+    };
+    let mut totals = RefineSummary {
+        shape_error_before_percent: best.error,
+        corrected_on_element_mm: Some(finer.mesh.element_mm),
+        correction_solves: 1,
+        ..RefineSummary::default()
+    };
+    let (mut design, mut coarse) = (start, simulation);
+    // The correction is a constant, so every round's residuals have the
+    // same Jacobian: a round goes on from the last round's.
+    let mut jacobian = None;
+    for round in 0..CORRECTION_ROUNDS {
+        // `best` is the design the verification model last stood at.
+        let Some(on_model) = problem.residuals(&coarse.centreline) else {
+            break;
         };
-        let Some(mut best) = verify(&start, Some(&simulation)) else {
-            if self.cancel.load(Ordering::Relaxed) {
-                return Err(DesignRunError::Cancelled);
-            }
-            return self.refine(start, simulation, budget, None, on_progress);
+        let correction = &best.residuals - on_model;
+        let corrected = RefineProblem {
+            correction: Some(&correction),
+            ..*problem
         };
-        let before = best.error;
-        let mut correction_solves = 1;
-        let (mut design, mut coarse) = (start, simulation);
-        let (mut solves, mut iterations, mut jacobians, mut variables) = (0, 0, 0, 0);
-        let mut differenced_jacobians = 0;
-        // The correction is a constant, so every round's residuals have the
-        // same Jacobian: a round goes on from the last round's.
-        let mut jacobian = None;
-        for round in 0..CORRECTION_ROUNDS {
-            // `best` is the design the verification model last stood at.
-            let Some(on_model) = self.residuals(&coarse.centreline) else {
-                break;
-            };
-            let correction = &best.residuals - on_model;
-            let corrected = RefineProblem {
-                correction: Some(&correction),
-                ..*self
-            };
-            // The first round pays the Jacobian (one solve, linearised);
-            // the rounds share the rest, since later ones go on from it.
-            let remaining = budget - solves;
-            // The verification model's centreline where the finer model was
-            // last solved, to judge where the next finer solve starts.
-            let coarse_at_best = coarse.centreline.clone();
-            let jacobian_cost = usize::from(jacobian.is_none()).min(remaining);
-            let share = jacobian_cost + (remaining - jacobian_cost) / (CORRECTION_ROUNDS - round);
-            let refined = corrected.refine(design, coarse, share, jacobian, &mut |i, e, s| {
-                on_progress(iterations + i, solves + e, s)
-            })?;
-            jacobian = refined.jacobian;
-            let Some(summary) = refined.summary else {
-                break;
-            };
-            solves += summary.solves;
-            iterations += summary.iterations;
-            jacobians += summary.jacobians;
-            differenced_jacobians += summary.differenced_jacobians;
-            variables = summary.variables;
-            (design, coarse) = (refined.design, refined.simulation);
-            if summary.iterations == 0 {
-                break;
-            }
-            correction_solves += 1;
-            let start = nearest_start(&best.simulation, &coarse_at_best, &coarse);
-            let Some(verified) = verify(&design, Some(start)) else {
-                if self.cancel.load(Ordering::Relaxed) {
-                    return Err(DesignRunError::Cancelled);
-                }
-                break;
-            };
-            if verified.error >= best.error {
-                break;
-            }
-            best = verified;
+        // The verification model's centreline where the finer model was
+        // last solved, to judge where the next finer solve starts.
+        let coarse_at_best = coarse.centreline.clone();
+        let share = round_share(budget - totals.solves, jacobian.is_none(), round);
+        let (iterations, solves) = (totals.iterations, totals.solves);
+        let refined = corrected.refine(design, coarse, share, jacobian, &mut |i, e, s| {
+            on_progress(iterations + i, solves + e, s)
+        })?;
+        jacobian = refined.jacobian;
+        let Some(summary) = refined.summary else {
+            break;
+        };
+        add_round(&mut totals, &summary);
+        (design, coarse) = (refined.design, refined.simulation);
+        if summary.iterations == 0 {
+            break;
         }
-        Ok(Refined {
-            design: best.design,
-            simulation: best.simulation,
-            summary: Some(RefineSummary {
-                shape_error_before_percent: before,
-                shape_error_after_percent: best.error,
-                iterations,
-                jacobians,
-                differenced_jacobians,
-                solves,
-                variables,
-                corrected_on_element_mm: Some(finer.mesh.element_mm),
-                correction_solves,
-            }),
-            jacobian,
-        })
+        totals.correction_solves += 1;
+        let start = nearest_start(&best.simulation, &coarse_at_best, &coarse);
+        let Some(verified) = verify(problem, finer, &design, Some(start)) else {
+            check_cancelled(problem)?;
+            break;
+        };
+        if verified.error >= best.error {
+            break;
+        }
+        best = verified;
     }
+    totals.shape_error_after_percent = best.error;
+    Ok(Refined {
+        design: best.design,
+        simulation: best.simulation,
+        summary: Some(totals),
+        jacobian,
+    })
+}
+
+/// `design` solved on the finer model from `warm`, with its residuals;
+/// none if cancelled, failed, or not alignable.
+fn verify(
+    problem: &RefineProblem<'_>,
+    finer: &SimulateOptions,
+    design: &Design,
+    warm: Option<&Simulation>,
+) -> Option<Verified> {
+    if problem.cancel.load(Ordering::Relaxed) {
+        return None;
+    }
+    let simulation = problem.caches.simulate_from(design, finer, warm).ok()?;
+    let residuals = problem.residuals(&simulation.centreline)?;
+    Some(Verified {
+        design: design.clone(),
+        simulation,
+        error: residuals.norm(),
+        residuals,
+    })
+}
+
+fn check_cancelled(problem: &RefineProblem<'_>) -> Result<(), DesignRunError> {
+    if problem.cancel.load(Ordering::Relaxed) {
+        return Err(DesignRunError::Cancelled);
+    }
+    Ok(())
+}
+
+/// Round `round`'s share of the `remaining` solves: the first round pays
+/// the Jacobian (one solve, linearised; `jacobian_due`), and the rounds
+/// share the rest, since later ones go on from it.
+fn round_share(remaining: usize, jacobian_due: bool, round: usize) -> usize {
+    let jacobian_cost = usize::from(jacobian_due).min(remaining);
+    jacobian_cost + (remaining - jacobian_cost) / (CORRECTION_ROUNDS - round)
+}
+
+/// Adds a round's counts to the totals.
+fn add_round(totals: &mut RefineSummary, round: &RefineSummary) {
+    totals.solves += round.solves;
+    totals.iterations += round.iterations;
+    totals.jacobians += round.jacobians;
+    totals.differenced_jacobians += round.differenced_jacobians;
+    totals.variables = round.variables;
 }
 
 /// Where the finer solve of a round's result starts: from the finer state of

@@ -1,6 +1,6 @@
 //! A cache of evaluated designs: the converged simulations of recent cold
-//! solves, keyed by the exact design and model, shared by every design run in
-//! the process (the service's jobs included).
+//! solves, keyed by the exact design and model, shared by the design runs of
+//! whoever owns it (the service keeps one for all its jobs).
 //!
 //! A cold solve is deterministic, so a cached simulation is bit for bit the
 //! one a new solve would return: a hit changes no result, only the time.
@@ -15,118 +15,131 @@
 //! twice, so a single run gains nothing (measured in BENCHMARKS.md).
 
 use std::collections::HashMap;
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard};
 
 use crate::design::Design;
-use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate};
+use crate::fe::newton::PatternCache;
+use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate_with};
 
 /// Mesh nodes the cache may hold in all, about 110 bytes each in a
 /// simulation: some 55 MB — 300 draft-search simulations (3 mm) or 20 of
 /// the `fine` preset's 0.5 mm verification.
 const NODE_BUDGET: usize = 500_000;
 
+/// Converged cold solves, least recently used dropped first.
+#[derive(Default)]
+pub struct EvaluationCache {
+    entries: Mutex<Entries>,
+    hits: AtomicUsize,
+    misses: AtomicUsize,
+}
+
+#[derive(Default)]
+struct Entries {
+    map: HashMap<Key, Entry>,
+    nodes: usize,
+    clock: u64,
+}
+
 struct Entry {
     simulation: Simulation,
     last_used: u64,
 }
 
-#[derive(Default)]
-struct Cache {
-    entries: HashMap<String, Entry>,
-    nodes: usize,
-    clock: u64,
+/// A design and a model, written out: `{:?}` prints every f64 in its
+/// shortest round-trip form, so equal keys are equal values.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+struct Key(String);
+
+impl Key {
+    fn new(design: &Design, options: &SimulateOptions) -> Key {
+        Key(format!("{design:?}|{options:?}"))
+    }
 }
 
-static CACHE: Mutex<Option<Cache>> = Mutex::new(None);
-static HITS: AtomicUsize = AtomicUsize::new(0);
-static MISSES: AtomicUsize = AtomicUsize::new(0);
-
-/// Hits and misses since the process started.
+/// Hits and misses of a cache since it was made.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CacheCounts {
     pub hits: usize,
     pub misses: usize,
 }
 
-/// [`simulate`] from the cold start, served from the cache when this exact
-/// design was solved on this exact model before.
-pub fn simulate_cached(
-    design: &Design,
-    options: &SimulateOptions,
-) -> Result<Simulation, SimulateError> {
-    // `{:?}` prints every f64 in its shortest round-trip form: equal keys
-    // are equal values.
-    let key = format!("{design:?}|{options:?}");
-    if let Some(simulation) = lookup(&key) {
-        HITS.fetch_add(1, Ordering::Relaxed);
-        return Ok(simulation);
+impl EvaluationCache {
+    /// `design` solved on `options` from the cold start, served from the
+    /// cache when this exact design was solved on this exact model before;
+    /// a new solve uses `patterns`.
+    pub fn simulate(
+        &self,
+        design: &Design,
+        options: &SimulateOptions,
+        patterns: &PatternCache,
+    ) -> Result<Simulation, SimulateError> {
+        let key = Key::new(design, options);
+        if let Some(simulation) = self.lookup(&key) {
+            self.hits.fetch_add(1, Ordering::Relaxed);
+            return Ok(simulation);
+        }
+        self.misses.fetch_add(1, Ordering::Relaxed);
+        let simulation = simulate_with(design, options, None, patterns)?;
+        self.store(key, &simulation);
+        Ok(simulation)
     }
-    MISSES.fetch_add(1, Ordering::Relaxed);
-    let simulation = simulate(design, options)?;
-    store(key, &simulation);
-    Ok(simulation)
-}
 
-/// Counts of cache hits and misses.
-pub fn counts() -> CacheCounts {
-    CacheCounts {
-        hits: HITS.load(Ordering::Relaxed),
-        misses: MISSES.load(Ordering::Relaxed),
-    }
-}
-
-/// Empties the cache (the counts stay): a benchmark that times runs as a
-/// fresh process would see them calls this before each run — otherwise two
-/// settings sharing a search (draft and fine) would time the second one's
-/// search as all hits.
-pub fn clear() {
-    *lock() = None;
-}
-
-fn lock() -> std::sync::MutexGuard<'static, Option<Cache>> {
-    CACHE.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-fn lookup(key: &str) -> Option<Simulation> {
-    let mut guard = lock();
-    let cache = guard.as_mut()?;
-    cache.clock += 1;
-    let clock = cache.clock;
-    let entry = cache.entries.get_mut(key)?;
-    entry.last_used = clock;
-    Some(entry.simulation.clone())
-}
-
-fn store(key: String, simulation: &Simulation) {
-    let size = simulation.mesh.nodes.len();
-    if size > NODE_BUDGET {
-        return;
-    }
-    let mut guard = lock();
-    let cache = guard.get_or_insert_with(Cache::default);
-    while cache.nodes + size > NODE_BUDGET {
-        let Some(oldest) = cache
-            .entries
-            .iter()
-            .min_by_key(|(_, e)| e.last_used)
-            .map(|(k, _)| k.clone())
-        else {
-            break;
-        };
-        if let Some(e) = cache.entries.remove(&oldest) {
-            cache.nodes -= e.simulation.mesh.nodes.len();
+    pub fn counts(&self) -> CacheCounts {
+        CacheCounts {
+            hits: self.hits.load(Ordering::Relaxed),
+            misses: self.misses.load(Ordering::Relaxed),
         }
     }
-    cache.clock += 1;
-    let entry = Entry {
-        simulation: simulation.clone(),
-        last_used: cache.clock,
-    };
-    if let Some(old) = cache.entries.insert(key, entry) {
-        cache.nodes -= old.simulation.mesh.nodes.len();
+
+    /// Empties the cache (the counts stay).
+    pub fn clear(&self) {
+        *self.lock() = Entries::default();
     }
-    cache.nodes += size;
+
+    fn lock(&self) -> MutexGuard<'_, Entries> {
+        self.entries.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn lookup(&self, key: &Key) -> Option<Simulation> {
+        let mut entries = self.lock();
+        entries.clock += 1;
+        let clock = entries.clock;
+        let entry = entries.map.get_mut(key)?;
+        entry.last_used = clock;
+        Some(entry.simulation.clone())
+    }
+
+    fn store(&self, key: Key, simulation: &Simulation) {
+        let size = simulation.mesh.nodes.len();
+        if size > NODE_BUDGET {
+            return;
+        }
+        let mut entries = self.lock();
+        while entries.nodes + size > NODE_BUDGET {
+            let Some(oldest) = entries
+                .map
+                .iter()
+                .min_by_key(|(_, e)| e.last_used)
+                .map(|(k, _)| k.clone())
+            else {
+                break;
+            };
+            if let Some(e) = entries.map.remove(&oldest) {
+                entries.nodes -= e.simulation.mesh.nodes.len();
+            }
+        }
+        entries.clock += 1;
+        let entry = Entry {
+            simulation: simulation.clone(),
+            last_used: entries.clock,
+        };
+        if let Some(old) = entries.map.insert(key, entry) {
+            entries.nodes -= old.simulation.mesh.nodes.len();
+        }
+        entries.nodes += size;
+    }
 }
 
 #[cfg(test)]
@@ -134,6 +147,7 @@ mod tests {
     use super::*;
     use crate::design::Patch;
     use crate::fe::mesh::MeshSpec;
+    use crate::fe::simulate;
 
     #[test]
     fn a_hit_returns_the_same_simulation_a_changed_design_misses_and_clear_empties() {
@@ -149,9 +163,13 @@ mod tests {
             mesh: MeshSpec::uniform(3.0),
             ..SimulateOptions::default()
         };
-        let before = counts();
-        let first = simulate_cached(&design, &options).expect("solves");
-        let second = simulate_cached(&design, &options).expect("solves");
+        let (cache, patterns) = (EvaluationCache::default(), PatternCache::default());
+        let first = cache
+            .simulate(&design, &options, &patterns)
+            .expect("solves");
+        let second = cache
+            .simulate(&design, &options, &patterns)
+            .expect("solves");
         assert_eq!(first.positions, second.positions);
         assert_eq!(first.curvature, second.curvature);
         // A fresh solve gives the same bits: the cache changes no result.
@@ -160,15 +178,14 @@ mod tests {
             first.positions
         );
         design.patches[0].theta_deg = 10.000001;
-        simulate_cached(&design, &options).expect("solves");
-        let after = counts();
-        // Other tests may run in parallel: at least our own counts.
-        assert!(after.hits > before.hits);
-        assert!(after.misses >= before.misses + 2);
+        cache
+            .simulate(&design, &options, &patterns)
+            .expect("solves");
+        assert_eq!(cache.counts(), CacheCounts { hits: 1, misses: 2 });
         // Cleared, the cache no longer holds it.
-        let key = format!("{design:?}|{options:?}");
-        assert!(lookup(&key).is_some());
-        clear();
-        assert!(lookup(&key).is_none());
+        let key = Key::new(&design, &options);
+        assert!(cache.lookup(&key).is_some());
+        cache.clear();
+        assert!(cache.lookup(&key).is_none());
     }
 }

@@ -6,6 +6,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use super::assess::verified;
+use super::caches::Caches;
 use super::checkpoint::DesignCheckpoint;
 use super::errors::DesignRunError;
 use super::limits::at_limits;
@@ -14,30 +15,33 @@ use super::plan::Plan;
 use super::run::{Context, Observer, Run, Setup};
 use crate::curve::Curve;
 
-/// Runs the plan from the start; `observer` hears every stage and
-/// generation.
+/// Runs the plan from the start, with caches of its own; `observer` hears
+/// every stage and generation.
 pub fn design(
     target: &Curve,
     plan: &Plan,
     cancel: &AtomicBool,
     mut observer: &mut dyn FnMut(&DesignProgress),
 ) -> Result<DesignOutcome, DesignRunError> {
-    design_resumable(target, plan, None, cancel, &mut observer)
+    let caches = Caches::default();
+    design_resumable(target, plan, None, &caches, cancel, &mut observer)
 }
 
 /// Runs the plan, from `resume` when given (a checkpoint of a run of the
 /// same target and plan), handing checkpoints to the observer as it goes.
 /// A cancelled run's last checkpoint is the generation before the
-/// cancellation.
+/// cancellation. `caches` may be shared with other runs (a repeated run
+/// finds its solves there); they change no result.
 pub fn design_resumable(
     target: &Curve,
     plan: &Plan,
     resume: Option<DesignCheckpoint>,
+    caches: &Caches,
     cancel: &AtomicBool,
     observer: &mut dyn Observer,
 ) -> Result<DesignOutcome, DesignRunError> {
     let earlier_s = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
-    let mut ctx = Context::new(cancel, observer, earlier_s);
+    let mut ctx = Context::new(cancel, caches, observer, earlier_s);
     let setup = Setup::new(target, plan.settings(), plan.tuning());
     let mut run = plan.seed().run(setup, resume, &mut ctx)?;
     for stage in plan.stages() {

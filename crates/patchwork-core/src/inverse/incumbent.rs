@@ -7,12 +7,12 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
-use super::evaluation_cache::simulate_cached;
+use super::caches::Caches;
 use super::objective::{ObjectiveOptions, TargetProfiles};
 use super::variables::DesignSpace;
 use crate::cmaes::{Bounds, RunOptions};
 use crate::design::{Design, Patch};
-use crate::fe::{SimulateOptions, Simulation, simulate_from};
+use crate::fe::{SimulateOptions, Simulation};
 
 /// Objective value given to a candidate whose forward solve failed: worse than
 /// any design that solves (a straight tube scores 1 on the profiles; the shape
@@ -49,6 +49,7 @@ pub(super) struct Scorer<'a> {
     pub objective: &'a ObjectiveOptions,
     pub warm_starts: bool,
     pub cancel: &'a AtomicBool,
+    pub caches: &'a Caches,
 }
 
 /// The best design of a stage so far and its inflated state.
@@ -60,7 +61,14 @@ pub(super) struct Incumbent {
 impl Scorer<'_> {
     /// Objective of `design` on this stage's model, and its simulation.
     pub fn score(&self, design: &Design, warm: Option<&Simulation>) -> (f64, Option<Simulation>) {
-        score(design, self.model, self.profiles, self.objective, warm)
+        score(
+            self.caches,
+            design,
+            self.model,
+            self.profiles,
+            self.objective,
+            warm,
+        )
     }
 
     /// The candidate at unit-cube point `u`: simulated, scored, and made the
@@ -95,17 +103,14 @@ impl Scorer<'_> {
 /// Objective of `design` on `model` and its simulation (the failed-solve
 /// penalty and none if the solve fails).
 pub(super) fn score(
+    caches: &Caches,
     design: &Design,
     model: &SimulateOptions,
     profiles: &TargetProfiles,
     objective: &ObjectiveOptions,
     warm: Option<&Simulation>,
 ) -> (f64, Option<Simulation>) {
-    let solved = match warm {
-        Some(_) => simulate_from(design, model, warm),
-        None => simulate_cached(design, model),
-    };
-    match solved {
+    match caches.simulate_from(design, model, warm) {
         Ok(sim) => (profiles.objective(&sim.centreline, objective), Some(sim)),
         Err(_) => (FAILED_SOLVE_PENALTY, None),
     }

@@ -14,10 +14,11 @@
 //! model (`correction.rs`).
 
 mod assess;
+mod caches;
 mod checkpoint;
 mod correction;
 mod errors;
-pub mod evaluation_cache;
+mod evaluation_cache;
 mod executor;
 mod incumbent;
 pub mod limits;
@@ -34,8 +35,10 @@ mod tuning;
 pub mod variables;
 
 pub use assess::assess;
+pub use caches::Caches;
 pub use checkpoint::DesignCheckpoint;
 pub use errors::{DesignRunError, SettingsError};
+pub use evaluation_cache::{CacheCounts, EvaluationCache};
 pub use executor::{design, design_resumable};
 pub use limits::AtLimit;
 pub use objective::{ObjectiveOptions, TargetProfiles};

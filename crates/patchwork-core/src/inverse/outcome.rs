@@ -86,7 +86,7 @@ pub struct Profiles {
 /// What a refine did, for the report: the shape error on its model (the
 /// correction's model when there is one) before and after it, its accepted
 /// steps and its solves.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct RefineSummary {
     pub shape_error_before_percent: f64,
     pub shape_error_after_percent: f64,

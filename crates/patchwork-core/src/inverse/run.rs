@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use nalgebra::DMatrix;
 
+use super::caches::Caches;
 use super::checkpoint::DesignCheckpoint;
 use super::errors::DesignRunError;
 use super::objective::TargetProfiles;
@@ -38,9 +39,11 @@ impl<F: FnMut(&DesignProgress)> Observer for F {
 }
 
 /// What the executor hands every stage besides the run: the cancel flag
-/// (polled before every evaluation), the clock, and the observer.
+/// (polled before every evaluation), the caches, the clock, and the observer.
 pub struct Context<'a> {
     pub cancel: &'a AtomicBool,
+    /// The solves the run may share with others.
+    pub caches: &'a Caches,
     observer: &'a mut dyn Observer,
     started: Instant,
     /// Seconds spent by earlier processes on a resumed run.
@@ -48,9 +51,15 @@ pub struct Context<'a> {
 }
 
 impl<'a> Context<'a> {
-    pub fn new(cancel: &'a AtomicBool, observer: &'a mut dyn Observer, earlier_s: f64) -> Self {
+    pub fn new(
+        cancel: &'a AtomicBool,
+        caches: &'a Caches,
+        observer: &'a mut dyn Observer,
+        earlier_s: f64,
+    ) -> Self {
         Context {
             cancel,
+            caches,
             observer,
             started: Instant::now(),
             earlier_s,

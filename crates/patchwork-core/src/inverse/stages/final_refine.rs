@@ -11,7 +11,7 @@ use super::super::run::{Context, Run};
 use super::super::tuning::FinalRefine;
 use super::RunStage;
 use super::refine::refine_problem;
-use crate::fe::{SimulateOptions, Simulation, simulate_from};
+use crate::fe::{SimulateOptions, Simulation};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FinalRefineStage {
@@ -28,7 +28,10 @@ impl RunStage for FinalRefineStage {
             ..run.tuning.model(mesh)
         };
         let previous = run.take_verified("final refine")?;
-        let start = match simulate_from(&run.design, &finest, Some(&previous)) {
+        let start = match ctx
+            .caches
+            .simulate_from(&run.design, &finest, Some(&previous))
+        {
             Ok(start) => start,
             Err(error) => {
                 run.final_refine_skipped = Some(format!(
@@ -50,7 +53,7 @@ impl RunStage for FinalRefineStage {
         let jacobian = run.jacobian.take();
         let problem = RefineProblem {
             model: &finest,
-            ..refine_problem(run, ctx.cancel)
+            ..refine_problem(run, ctx.cancel, ctx.caches)
         };
         let spent = run.state.evaluations;
         let (profiles, objective) = (&run.profiles, &run.tuning.objective);

@@ -4,7 +4,6 @@
 //! the target's, and verify the corrected design.
 
 use super::super::errors::DesignRunError;
-use super::super::evaluation_cache::simulate_cached;
 use super::super::run::{Context, Run};
 use super::RunStage;
 
@@ -15,14 +14,16 @@ const LENGTH_TOLERANCE: f64 = 1e-3;
 pub struct LengthCorrection;
 
 impl RunStage for LengthCorrection {
-    fn run(&self, run: &mut Run<'_>, _ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
         let simulation = run.take_verified("length correction")?;
         let ratio = run.target.length() / simulation.inflated_length_mm;
         run.verified = Some(simulation);
         if (ratio - 1.0).abs() > LENGTH_TOLERANCE {
             run.design.stretch_length(ratio);
-            let corrected =
-                simulate_cached(&run.design, &run.verify_model).map_err(DesignRunError::Verify)?;
+            let corrected = ctx
+                .caches
+                .simulate(&run.design, &run.verify_model)
+                .map_err(DesignRunError::Verify)?;
             run.verified = Some(corrected);
         }
         Ok(())

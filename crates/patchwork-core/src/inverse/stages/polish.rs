@@ -43,6 +43,7 @@ impl RunStage for Polish {
             objective: &run.tuning.objective,
             warm_starts: run.tuning.warm_starts,
             cancel: ctx.cancel,
+            caches: ctx.caches,
         };
         let polished = polish(
             &scorer,

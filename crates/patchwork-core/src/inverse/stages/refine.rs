@@ -5,6 +5,8 @@
 
 use std::sync::atomic::AtomicBool;
 
+use super::super::caches::Caches;
+use super::super::correction::refine_corrected;
 use super::super::errors::DesignRunError;
 use super::super::outcome::{RefineSummary, Stage};
 use super::super::refine::{RefineProblem, Refined};
@@ -27,7 +29,7 @@ impl RunStage for Refine {
             return Ok(());
         }
         let simulation = run.take_verified("refine")?;
-        let problem = refine_problem(run, ctx.cancel);
+        let problem = refine_problem(run, ctx.cancel, ctx.caches);
         let spent = run.state.evaluations;
         let (profiles, objective) = (&run.profiles, &run.tuning.objective);
         let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
@@ -36,7 +38,8 @@ impl RunStage for Refine {
         };
         let design = run.design.clone();
         let refined = match self.correction {
-            Some(mesh) => problem.refine_corrected(
+            Some(mesh) => refine_corrected(
+                &problem,
                 &run.tuning.model(mesh),
                 design,
                 simulation,
@@ -73,7 +76,11 @@ impl RunStage for Refine {
 
 /// The refine's problem on the run's verification model, its bounds and
 /// freedom, with the length free unless the user fixed it.
-pub(super) fn refine_problem<'r>(run: &'r Run<'_>, cancel: &'r AtomicBool) -> RefineProblem<'r> {
+pub(super) fn refine_problem<'r>(
+    run: &'r Run<'_>,
+    cancel: &'r AtomicBool,
+    caches: &'r Caches,
+) -> RefineProblem<'r> {
     RefineProblem {
         model: &run.verify_model,
         target: &run.profiles,
@@ -83,5 +90,6 @@ pub(super) fn refine_problem<'r>(run: &'r Run<'_>, cancel: &'r AtomicBool) -> Re
         correction: None,
         threads: run.settings.threads,
         cancel,
+        caches,
     }
 }

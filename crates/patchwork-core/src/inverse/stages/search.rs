@@ -41,6 +41,7 @@ impl RunStage for Search {
             objective: &tuning.objective,
             warm_starts: tuning.warm_starts,
             cancel: ctx.cancel,
+            caches: ctx.caches,
         };
         let objective = |u: &[f64]| scorer.evaluate(u, &incumbent);
         // The optimiser lives in the checkpoint state, so what is

@@ -2,9 +2,9 @@
 //! (or, on resumption, the checkpoint's state), evaluated on the search
 //! model.
 
+use super::super::caches::Caches;
 use super::super::checkpoint::DesignCheckpoint;
 use super::super::errors::DesignRunError;
-use super::super::evaluation_cache::simulate_cached;
 use super::super::incumbent::score;
 use super::super::outcome::Stage;
 use super::super::run::{Context, Run, Setup};
@@ -31,6 +31,7 @@ impl Seed {
         let (settings, tuning) = (setup.settings, setup.tuning);
         let evaluate = |design: &Design| {
             score(
+                ctx.caches,
                 design,
                 &setup.search_model,
                 &setup.profiles,
@@ -60,7 +61,7 @@ impl Seed {
                     patches: vec![],
                     ..settings.base.clone()
                 };
-                base = seeded_balloon(base, settings.fix_length, &setup)?;
+                base = seeded_balloon(base, settings.fix_length, &setup, ctx.caches)?;
                 if tuning.start == Start::Even {
                     base.patches = spread_evenly(&base, base.patches.len(), &settings.bounds);
                 }
@@ -120,6 +121,7 @@ fn seeded_balloon(
     base: Design,
     fix_length: bool,
     setup: &Setup<'_>,
+    caches: &Caches,
 ) -> Result<Design, DesignRunError> {
     let target = setup.target;
     let b = &base.balloon;
@@ -148,7 +150,9 @@ fn seeded_balloon(
             ..base.clone()
         };
         trial.balloon.length_mm = length;
-        let sim = simulate_cached(&trial, &setup.verify_model).map_err(DesignRunError::Seed)?;
+        let sim = caches
+            .simulate(&trial, &setup.verify_model)
+            .map_err(DesignRunError::Seed)?;
         trial.stretch_length(target_length / sim.inflated_length_mm);
         length = trial.balloon.length_mm;
         seed_patches = trial.patches;

@@ -2,7 +2,6 @@
 //! polish's simulation when it ran), on which the later stages start.
 
 use super::super::errors::DesignRunError;
-use super::super::evaluation_cache::simulate_cached;
 use super::super::outcome::Stage;
 use super::super::run::{Context, Run};
 use super::RunStage;
@@ -22,9 +21,10 @@ impl RunStage for Verify {
         );
         let simulation = match run.polished.take() {
             Some(simulation) => simulation,
-            None => {
-                simulate_cached(&run.design, &run.verify_model).map_err(DesignRunError::Verify)?
-            }
+            None => ctx
+                .caches
+                .simulate(&run.design, &run.verify_model)
+                .map_err(DesignRunError::Verify)?,
         };
         run.verified = Some(simulation);
         run.verified_on = run.tuning.verify_mesh;

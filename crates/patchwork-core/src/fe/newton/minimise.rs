@@ -1,0 +1,207 @@
+//! Newton's loop: linearise, factor (shifted where needed), step, line
+//! search, guard — each piece in its own module, this one only the order.
+
+use std::time::Instant;
+
+use super::super::tangent_factor::TangentFactor;
+use super::guard::{ceiling, guard_definiteness};
+use super::line_search::line_search;
+use super::options::NewtonOptions;
+use super::outcome::{SolveError, SolveStats};
+use super::potential::{Linearisation, Potential, norm};
+use super::shift::{decayed, factor_with_shift};
+use super::stopping::{hard_limit, still_converging};
+use super::timing::timed;
+
+/// Minimises `potential` from `u` with `factor` (of the potential's
+/// pattern); converged when |∇Π| ≤ `options.tolerance` · `scale`. Returns
+/// the minimiser and the solve's statistics.
+pub fn minimise(
+    potential: &impl Potential,
+    factor: &mut TangentFactor,
+    u: Vec<f64>,
+    scale: f64,
+    options: &NewtonOptions,
+) -> Result<(Vec<f64>, SolveStats), SolveError> {
+    let mut newton = Newton {
+        potential,
+        factor,
+        options,
+        scale,
+        started: Instant::now(),
+        stats: SolveStats::default(),
+        shift: 0.0,
+        factored_with: None,
+        guarding: options.definiteness_guard,
+        residuals: Vec::new(),
+    };
+    let here = timed(&mut newton.stats.assembly_time, || potential.linearise(&u));
+    let here = here.ok_or(SolveError::InadmissibleStart)?;
+    newton.run(u, here)
+}
+
+/// A solve's state between iterations.
+struct Newton<'a, 'f, P> {
+    potential: &'a P,
+    factor: &'a mut TangentFactor<'f>,
+    options: &'a NewtonOptions,
+    /// The load's size, which the residual is relative to.
+    scale: f64,
+    started: Instant,
+    stats: SolveStats,
+    /// The shift the next factorisation starts from.
+    shift: f64,
+    /// The shift with which `factor` already holds K + αI at the current
+    /// state (the guard factorised it while accepting the step).
+    factored_with: Option<f64>,
+    guarding: bool,
+    /// Relative residuals of the iterations so far.
+    residuals: Vec<f64>,
+}
+
+impl<P: Potential> Newton<'_, '_, P> {
+    fn run(
+        mut self,
+        mut u: Vec<f64>,
+        mut here: Linearisation,
+    ) -> Result<(Vec<f64>, SolveStats), SolveError> {
+        let options = self.options;
+        let mut residual = f64::INFINITY;
+        for iteration in 0..=hard_limit(options.max_iterations) {
+            residual = norm(&here.gradient) / self.scale;
+            if !residual.is_finite() {
+                return Err(SolveError::InadmissibleStart);
+            }
+            self.residuals.push(residual);
+            if residual <= options.tolerance {
+                let stable = self.factored_with == Some(0.0) || self.stable(&mut here);
+                return Ok((u, self.converged(iteration, residual, stable)));
+            }
+            if iteration >= options.max_iterations && !still_converging(&self.residuals) {
+                break;
+            }
+            if self.started.elapsed() > options.time_limit {
+                let limit_s = options.time_limit.as_secs_f64();
+                return Err(SolveError::TimeLimit { limit_s, residual });
+            }
+            let line_search_failed = SolveError::LineSearch {
+                iterations: iteration,
+                residual,
+            };
+            let (step, slope, used_shift) = self.newton_step(&mut here, residual)?;
+            if slope.is_nan() || slope >= 0.0 {
+                return Err(line_search_failed);
+            }
+            let searched = timed(&mut self.stats.line_search_time, || {
+                line_search(self.potential, &u, &step, here.potential, slope)
+            });
+            let Some(next) = searched else {
+                // Converged to round-off: the energy can no longer resolve
+                // the step, and the residual is within 1000× of the tolerance.
+                if residual <= 1e3 * options.tolerance {
+                    let stable = self.stable(&mut here);
+                    return Ok((u, self.converged(iteration, residual, stable)));
+                }
+                return Err(line_search_failed);
+            };
+            (u, here) = self.guard(&u, &here, next, used_shift, residual)?;
+        }
+        Err(SolveError::NotConverged {
+            iterations: self.residuals.len().saturating_sub(1),
+            residual,
+        })
+    }
+
+    /// The Newton step −(K + αI)⁻¹∇Π at `here`, its slope along ∇Π and the
+    /// shift α used: the guard's factorisation if it left one, else K
+    /// factorised with the smallest shift that works from the current one.
+    /// The shift then decays for the next iteration.
+    fn newton_step(
+        &mut self,
+        here: &mut Linearisation,
+        residual: f64,
+    ) -> Result<(Vec<f64>, f64, f64), SolveError> {
+        let used_shift = match self.factored_with.take() {
+            Some(used) => used,
+            None => {
+                let (used, attempts) = timed(&mut self.stats.factor_time, || {
+                    let (shift, stiffness) = (self.shift, here.stiffness);
+                    factor_with_shift(
+                        self.factor,
+                        &mut here.values,
+                        shift,
+                        stiffness,
+                        f64::INFINITY,
+                    )
+                });
+                self.stats.factorisations += attempts;
+                used.map_err(|shift| SolveError::Factorisation { shift, residual })?
+            }
+        };
+        self.shift = decayed(used_shift, here.stiffness);
+        let mut step: Vec<f64> = here.gradient.iter().map(|g| -g).collect();
+        timed(&mut self.stats.substitution_time, || {
+            self.factor.solve_in_place(&mut step)
+        });
+        let slope: f64 = step.iter().zip(&here.gradient).map(|(s, g)| s * g).sum();
+        Ok((step, slope, used_shift))
+    }
+
+    /// The guard on the line search's point; the state to go on from. If
+    /// every shift up to the guard's ceiling failed there, at every halving,
+    /// the next factorisation starts above the ceiling and the guard stands
+    /// down for the rest of the solve, which has gone where halving does not
+    /// help and each failed check costs factorisations.
+    fn guard(
+        &mut self,
+        u: &[f64],
+        here: &Linearisation,
+        next: Vec<f64>,
+        used_shift: f64,
+        residual: f64,
+    ) -> Result<(Vec<f64>, Linearisation), SolveError> {
+        let ceiling = ceiling(self.guarding, used_shift, here.stiffness);
+        let guarded = guard_definiteness(
+            self.potential,
+            self.factor,
+            (u, here.potential),
+            next,
+            (self.shift, ceiling),
+            &mut self.stats,
+        )
+        .ok_or(SolveError::LineSearch {
+            iterations: self.residuals.len() - 1,
+            residual,
+        })?;
+        if let Err(tried) = guarded.factored_with {
+            if !ceiling.is_finite() {
+                // No shift at all made K + αI positive definite.
+                return Err(SolveError::Factorisation {
+                    shift: tried,
+                    residual,
+                });
+            }
+            self.shift = self.shift.max(ceiling);
+            self.guarding = false;
+        }
+        self.factored_with = guarded.factored_with.ok();
+        Ok((guarded.u, guarded.here))
+    }
+
+    /// Whether K factorises without shift at `here`: a stable equilibrium.
+    fn stable(&mut self, here: &mut Linearisation) -> bool {
+        let values = here.unshifted();
+        timed(&mut self.stats.factor_time, || {
+            self.factor.factorise(&values)
+        })
+    }
+
+    fn converged(self, iterations: usize, residual: f64, stable: bool) -> SolveStats {
+        SolveStats {
+            iterations,
+            residual,
+            stable,
+            ..self.stats
+        }
+    }
+}
