@@ -1,6 +1,7 @@
-//! 200 random six-patch designs within the authors' bounds (fixed seed): each
-//! solve converges or returns the typed error — never a panic, a hang or a NaN.
-//! The convergence rate is printed (goal 100 %).
+//! 200 random six-patch designs within the authors' bounds (fixed seed): every
+//! one converges to a stable equilibrium with finite numbers — within the
+//! fabrication bounds no design may fail to solve. The Newton iterations and
+//! factorisations are printed.
 
 use std::time::Duration;
 
@@ -17,7 +18,7 @@ fn uniform(rng: &mut SeededRng, lo: f64, hi: f64) -> f64 {
 const SEED_Y: [f64; 6] = [43.3, 87.9, 128.2, 163.9, 204.8, 248.8];
 
 #[test]
-fn random_designs_converge_or_fail_with_a_typed_error() {
+fn every_random_design_within_the_bounds_converges_to_a_stable_state() {
     let mut rng = SeededRng::new(20231121);
     let options = SimulateOptions {
         newton: NewtonOptions {
@@ -27,11 +28,10 @@ fn random_designs_converge_or_fail_with_a_typed_error() {
         ..SimulateOptions::default()
     };
     let circumference = std::f64::consts::TAU * 3.18;
-    let (mut converged, mut failed, mut unstable) = (0, 0, 0);
     let mut iterations = Vec::new();
     let mut factorisations = 0;
     let started = std::time::Instant::now();
-    for _ in 0..200 {
+    for case in 0..200 {
         let patches = SEED_Y
             .iter()
             .map(|&y| Patch {
@@ -44,10 +44,9 @@ fn random_designs_converge_or_fail_with_a_typed_error() {
             .collect();
         match simulate(&Design::reference(patches), &options) {
             Ok(sim) => {
-                converged += 1;
                 iterations.push(sim.stats.iterations);
                 factorisations += sim.stats.factorisations;
-                unstable += usize::from(!sim.stats.stable);
+                assert!(sim.stats.stable, "case {case}: not a stable state");
                 assert!(
                     sim.centreline
                         .points()
@@ -62,21 +61,15 @@ fn random_designs_converge_or_fail_with_a_typed_error() {
                 );
                 assert!(sim.inflated_length_mm.is_finite() && sim.inflated_length_mm > 292.0);
             }
-            Err(e) => {
-                failed += 1;
-                assert!(!e.to_string().is_empty());
-                println!("typed failure: {e}");
-            }
+            Err(e) => panic!("case {case}: {e}"),
         }
     }
     iterations.sort_unstable();
     println!(
-        "robustness: {converged}/200 converged ({:.1} %), {failed} typed failures, {unstable} converged but not stable; Newton iterations median {} max {} total {}; {factorisations} factorisations; {:.1} s",
-        converged as f64 / 2.0,
+        "robustness: 200/200 converged and stable; Newton iterations median {} max {} total {}; {factorisations} factorisations; {:.1} s",
         iterations.get(iterations.len() / 2).copied().unwrap_or(0),
         iterations.last().copied().unwrap_or(0),
         iterations.iter().sum::<usize>(),
         started.elapsed().as_secs_f64()
     );
-    assert_eq!(converged + failed, 200);
 }

@@ -53,10 +53,14 @@ pub fn design_resumable(
 /// The outcome of a run whose stages are done.
 fn outcome(mut run: Run<'_>, ctx: &Context<'_>) -> Result<DesignOutcome, DesignRunError> {
     let simulation = run.take_verified("outcome")?;
-    let (metrics, profiles) = verified(&run.profiles, &simulation, &run.tuning.objective);
+    let (metrics, profiles) = verified(
+        &run.setup.profiles,
+        &simulation,
+        &run.setup.tuning.objective,
+    );
     let state = run.state;
     Ok(DesignOutcome {
-        at_limits: at_limits(&run.design.patches, &run.settings.bounds),
+        at_limits: at_limits(&run.design.patches, &run.setup.settings.bounds),
         profiles,
         inflated_length_mm: simulation.inflated_length_mm,
         uninflated_length_to_cut_mm: run.design.balloon.length_mm,
@@ -69,7 +73,7 @@ fn outcome(mut run: Run<'_>, ctx: &Context<'_>) -> Result<DesignOutcome, DesignR
         metrics,
         seed_objective: state.seed_objective,
         search_objective: state.best_objective,
-        target_length_mm: run.target.length(),
+        target_length_mm: run.setup.target.length(),
         evaluations: state.evaluations,
         termination: run.termination,
         refine: run.refine,

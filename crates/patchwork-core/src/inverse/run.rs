@@ -136,12 +136,7 @@ impl<'a> Setup<'a> {
 /// A design run's state between stages. The seed stage creates it; each
 /// later stage reads what it needs and leaves its result.
 pub struct Run<'a> {
-    pub target: &'a Curve,
-    pub settings: &'a UserSettings,
-    pub tuning: &'a Tuning,
-    pub profiles: TargetProfiles,
-    pub search_model: SimulateOptions,
-    pub verify_model: SimulateOptions,
+    pub setup: Setup<'a>,
     /// What a checkpoint holds: the balloon, the seed, the search's state
     /// and best design, the evaluations spent.
     pub state: DesignCheckpoint,
@@ -177,21 +172,9 @@ impl<'a> Run<'a> {
         state: DesignCheckpoint,
         (space, bounds): (DesignSpace, VariableBounds),
     ) -> Run<'a> {
-        let Setup {
-            target,
-            settings,
-            tuning,
-            profiles,
-            search_model,
-            verify_model,
-        } = setup;
         Run {
-            target,
-            settings,
-            tuning,
-            profiles,
-            search_model,
-            verify_model,
+            verified_on: setup.tuning.verify_mesh,
+            setup,
             design: state.best_design(),
             state,
             space,
@@ -200,7 +183,6 @@ impl<'a> Run<'a> {
             termination: SearchEnd::Optimizer(Termination::MaxEvaluations),
             polished: None,
             verified: None,
-            verified_on: tuning.verify_mesh,
             refine: None,
             jacobian: None,
             final_refine: None,

@@ -65,23 +65,26 @@ pub fn decayed(used: f64, stiffness: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::Quadratic;
+    use super::super::tests::Analytic;
     use super::*;
     use crate::fe::newton::potential::Potential;
 
+    /// `potential`'s tangent at the origin factorised with shifts up to
+    /// `ceiling`: the shift used (or the last tried), the attempts, and the
+    /// stiffness scale.
+    fn shift_at_origin(potential: &Analytic, ceiling: f64) -> (Result<f64, f64>, usize, f64) {
+        let pattern = potential.pattern();
+        let mut factor = pattern.factor();
+        let mut here = potential.linearise(&[0.0, 0.0]).unwrap();
+        let stiffness = here.stiffness;
+        let (used, attempts) =
+            factor_with_shift(&mut factor, &mut here.values, 0.0, stiffness, ceiling);
+        (used, attempts, stiffness)
+    }
+
     #[test]
     fn a_positive_definite_tangent_factorises_without_shift() {
-        let bowl = Quadratic::diagonal(&[2.0, 3.0]);
-        let pattern = bowl.pattern();
-        let mut factor = pattern.factor();
-        let mut here = bowl.linearise(&[0.0, 0.0]).unwrap();
-        let (used, attempts) = factor_with_shift(
-            &mut factor,
-            &mut here.values,
-            0.0,
-            here.stiffness,
-            f64::INFINITY,
-        );
+        let (used, attempts, _) = shift_at_origin(&Analytic::bowl(), f64::INFINITY);
         assert_eq!((used, attempts), (Ok(0.0), 1));
     }
 
@@ -91,24 +94,13 @@ mod tests {
         // stored triplets are K's lower triangle (1, 0, −0.5) and two shift
         // slots, mean magnitude 0.3, so the shifts tried are 0, 3e-5, 3e-4,
         // …, 0.3, and the seventh, 3, is the first above 0.5.
-        let saddle = Quadratic::diagonal(&[1.0, -0.5]);
-        let pattern = saddle.pattern();
-        let mut factor = pattern.factor();
-        let mut here = saddle.linearise(&[0.0, 0.0]).unwrap();
-        assert!((here.stiffness - 0.3).abs() < 1e-15);
-        let (used, attempts) = factor_with_shift(
-            &mut factor,
-            &mut here.values,
-            0.0,
-            here.stiffness,
-            f64::INFINITY,
-        );
+        let (used, attempts, stiffness) = shift_at_origin(&Analytic::saddle(), f64::INFINITY);
+        assert!((stiffness - 0.3).abs() < 1e-15);
         let used = used.unwrap();
         assert!((used - 3.0).abs() < 1e-12, "{used}");
         assert_eq!(attempts, 7);
         // Under a ceiling below 0.5 every allowed shift fails: the last tried.
-        let (capped, attempts) =
-            factor_with_shift(&mut factor, &mut here.values, 0.0, here.stiffness, 0.1);
+        let (capped, attempts, _) = shift_at_origin(&Analytic::saddle(), 0.1);
         assert!((capped.unwrap_err() - 0.03).abs() < 1e-12);
         assert_eq!(attempts, 5);
     }

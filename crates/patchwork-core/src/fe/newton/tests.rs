@@ -19,31 +19,27 @@ pub(super) struct Analytic {
     hessian: fn(&[f64]) -> Vec<f64>,
 }
 
-/// A separable quadratic Π = ½ Σ dᵢ uᵢ², for the shift's tests.
-pub(super) struct Quadratic;
-
-impl Quadratic {
-    /// Π = ½ (d₀ u₀² + d₁ u₁²) over two unknowns.
-    pub fn diagonal(d: &[f64; 2]) -> Analytic {
-        // The closures cannot capture d: the two cases the tests use.
-        match d {
-            [2.0, 3.0] => Analytic {
-                n: 2,
-                energy: |u| u[0] * u[0] + 1.5 * u[1] * u[1],
-                gradient: |u| vec![2.0 * u[0], 3.0 * u[1]],
-                hessian: |_| vec![2.0, 0.0, 3.0],
-            },
-            _ => Analytic {
-                n: 2,
-                energy: |u| 0.5 * u[0] * u[0] - 0.25 * u[1] * u[1],
-                gradient: |u| vec![u[0], -0.5 * u[1]],
-                hessian: |_| vec![1.0, 0.0, -0.5],
-            },
+impl Analytic {
+    /// Π = u₀² + 1.5 u₁²: K = diag(2, 3), positive definite.
+    pub fn bowl() -> Analytic {
+        Analytic {
+            n: 2,
+            energy: |u| u[0] * u[0] + 1.5 * u[1] * u[1],
+            gradient: |u| vec![2.0 * u[0], 3.0 * u[1]],
+            hessian: |_| vec![2.0, 0.0, 3.0],
         }
     }
-}
 
-impl Analytic {
+    /// Π = ½ u₀² − ¼ u₁²: K = diag(1, −0.5), indefinite.
+    pub fn saddle() -> Analytic {
+        Analytic {
+            n: 2,
+            energy: |u| 0.5 * u[0] * u[0] - 0.25 * u[1] * u[1],
+            gradient: |u| vec![u[0], -0.5 * u[1]],
+            hessian: |_| vec![1.0, 0.0, -0.5],
+        }
+    }
+
     /// Π(u) = −cos u − 0.4 u: minima where sin u = 0.4 (u = 0.4115 + 2πk),
     /// Π'' = cos u, negative for π/2 < u < 3π/2. From u = −1.2 (Π'' =
     /// 0.36) the Newton step is +3.68, to u = 2.48 where Π'' = −0.79 yet the
@@ -109,9 +105,7 @@ impl Potential for Analytic {
 
 #[test]
 fn newton_converges_in_one_step_on_a_quadratic_bowl() {
-    let (u, stats) = Quadratic::diagonal(&[2.0, 3.0])
-        .solve(&[0.7, -1.3], true)
-        .unwrap();
+    let (u, stats) = Analytic::bowl().solve(&[0.7, -1.3], true).unwrap();
     assert!(u.iter().all(|x| x.abs() < 1e-15), "{u:?}");
     assert_eq!(stats.iterations, 1);
     assert!(stats.stable);
@@ -144,30 +138,25 @@ fn the_guard_halves_a_step_that_lands_where_the_tangent_is_indefinite() {
     // After an unshifted step the end may need a shift of at most 1e-3 of
     // the mean tangent entry; at 2.48 it needs 0.79: halved once, to
     // u = 0.64, where K = cos 0.64 = 0.80 factorises unshifted.
-    let limit = ceiling(true, 0.0, here.stiffness);
-    let guarded = guard_definiteness(
-        &cosine,
-        &mut factor,
-        (&u, here.potential),
-        next.clone(),
-        (0.0, limit),
-        &mut stats,
-    )
-    .unwrap();
+    let mut guard = |guarding: bool| {
+        let limit = ceiling(guarding, 0.0, here.stiffness);
+        let start = (&u[..], here.potential);
+        guard_definiteness(
+            &cosine,
+            &mut factor,
+            start,
+            next.clone(),
+            (0.0, limit),
+            &mut stats,
+        )
+        .unwrap()
+    };
+    let guarded = guard(true);
     assert!((guarded.u[0] - (-1.2 + 0.5 * (next[0] + 1.2))).abs() < 1e-15);
     assert_eq!(guarded.factored_with, Ok(0.0));
     assert!(guarded.here.potential < here.potential);
     // The guard off: the line search's point stands, with the shift it needs.
-    let off = ceiling(false, 0.0, here.stiffness);
-    let unguarded = guard_definiteness(
-        &cosine,
-        &mut factor,
-        (&u, here.potential),
-        next.clone(),
-        (0.0, off),
-        &mut stats,
-    )
-    .unwrap();
+    let unguarded = guard(false);
     assert_eq!(unguarded.u, next);
     assert!(unguarded.factored_with.unwrap() > 0.79);
 }

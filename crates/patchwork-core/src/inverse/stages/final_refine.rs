@@ -25,7 +25,7 @@ impl RunStage for FinalRefineStage {
         let FinalRefine { mesh, newton, .. } = self.refine;
         let finest = SimulateOptions {
             newton,
-            ..run.tuning.model(mesh)
+            ..run.setup.tuning.model(mesh)
         };
         let previous = run.take_verified("final refine")?;
         let start = match ctx
@@ -56,7 +56,7 @@ impl RunStage for FinalRefineStage {
             ..refine_problem(run, ctx.cancel, ctx.caches)
         };
         let spent = run.state.evaluations;
-        let (profiles, objective) = (&run.profiles, &run.tuning.objective);
+        let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);
         let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
             let best = profiles.objective(&simulation.centreline, objective);
             ctx.report(Stage::Refine, iteration, spent + evaluations, best, 0.0)

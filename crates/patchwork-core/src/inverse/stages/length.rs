@@ -16,13 +16,13 @@ pub struct LengthCorrection;
 impl RunStage for LengthCorrection {
     fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
         let simulation = run.take_verified("length correction")?;
-        let ratio = run.target.length() / simulation.inflated_length_mm;
+        let ratio = run.setup.target.length() / simulation.inflated_length_mm;
         run.verified = Some(simulation);
         if (ratio - 1.0).abs() > LENGTH_TOLERANCE {
             run.design.stretch_length(ratio);
             let corrected = ctx
                 .caches
-                .simulate(&run.design, &run.verify_model)
+                .simulate(&run.design, &run.setup.verify_model)
                 .map_err(DesignRunError::Verify)?;
             run.verified = Some(corrected);
         }

@@ -38,10 +38,10 @@ impl RunStage for Polish {
         let scorer = Scorer {
             space: &run.space,
             base: &state.base,
-            model: &run.verify_model,
-            profiles: &run.profiles,
-            objective: &run.tuning.objective,
-            warm_starts: run.tuning.warm_starts,
+            model: &run.setup.verify_model,
+            profiles: &run.setup.profiles,
+            objective: &run.setup.tuning.objective,
+            warm_starts: run.setup.tuning.warm_starts,
             cancel: ctx.cancel,
             caches: ctx.caches,
         };
@@ -49,8 +49,8 @@ impl RunStage for Polish {
             &scorer,
             start,
             self.budget,
-            run.settings.seed.wrapping_add(1),
-            run.settings.threads,
+            run.setup.settings.seed.wrapping_add(1),
+            run.setup.settings.threads,
             &mut |generation, evaluations, best, sigma| {
                 ctx.report(Stage::Polish, generation, spent + evaluations, best, sigma)
             },

@@ -31,7 +31,7 @@ impl RunStage for Refine {
         let simulation = run.take_verified("refine")?;
         let problem = refine_problem(run, ctx.cancel, ctx.caches);
         let spent = run.state.evaluations;
-        let (profiles, objective) = (&run.profiles, &run.tuning.objective);
+        let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);
         let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
             let best = profiles.objective(&simulation.centreline, objective);
             ctx.report(Stage::Refine, iteration, spent + evaluations, best, 0.0)
@@ -40,7 +40,7 @@ impl RunStage for Refine {
         let refined = match self.correction {
             Some(mesh) => refine_corrected(
                 &problem,
-                &run.tuning.model(mesh),
+                &run.setup.tuning.model(mesh),
                 design,
                 simulation,
                 self.solves,
@@ -82,13 +82,13 @@ pub(super) fn refine_problem<'r>(
     caches: &'r Caches,
 ) -> RefineProblem<'r> {
     RefineProblem {
-        model: &run.verify_model,
-        target: &run.profiles,
-        freedom: run.settings.freedom,
+        model: &run.setup.verify_model,
+        target: &run.setup.profiles,
+        freedom: run.setup.settings.freedom,
         bounds: &run.bounds,
-        free_length: !run.settings.fix_length,
+        free_length: !run.setup.settings.fix_length,
         correction: None,
-        threads: run.settings.threads,
+        threads: run.setup.settings.threads,
         cancel,
         caches,
     }

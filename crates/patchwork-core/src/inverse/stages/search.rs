@@ -25,7 +25,7 @@ impl RunStage for Search {
         if run.space.dimension() == 0 || self.budget <= 1 {
             return Ok(());
         }
-        let (settings, tuning) = (run.settings, run.tuning);
+        let (settings, tuning) = (run.setup.settings, run.setup.tuning);
         let state = &mut run.state;
         let incumbent = Incumbent::new(
             state.best_objective,
@@ -36,8 +36,8 @@ impl RunStage for Search {
         let scorer = Scorer {
             space: &run.space,
             base: &base,
-            model: &run.search_model,
-            profiles: &run.profiles,
+            model: &run.setup.search_model,
+            profiles: &run.setup.profiles,
             objective: &tuning.objective,
             warm_starts: tuning.warm_starts,
             cancel: ctx.cancel,

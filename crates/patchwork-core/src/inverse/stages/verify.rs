@@ -23,11 +23,11 @@ impl RunStage for Verify {
             Some(simulation) => simulation,
             None => ctx
                 .caches
-                .simulate(&run.design, &run.verify_model)
+                .simulate(&run.design, &run.setup.verify_model)
                 .map_err(DesignRunError::Verify)?,
         };
         run.verified = Some(simulation);
-        run.verified_on = run.tuning.verify_mesh;
+        run.verified_on = run.setup.tuning.verify_mesh;
         Ok(())
     }
 }
