@@ -1,5 +1,6 @@
-//! `patchwork bench [--quick] [--out DIR] [--runs N]`: run time against error.
-//! A fixed suite of target curves × fidelity settings, each run with seeds
+//! `patchwork bench [--suite quick|reference|curves] [--out DIR] [--runs N]`:
+//! run time against error. A fixed suite of target curves × fidelity
+//! settings (`bench_suite.rs`), each run with seeds
 //! 1..=N; writes `bench.md` (medians: wall time, evaluations, shape error, DTW
 //! κ and τ) and `bench.svg` (shape error against time, Pareto front per curve).
 //!
@@ -15,18 +16,23 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use patchwork_core::curve::{Curve, Preset};
 use patchwork_core::fe::mesh::MeshSpec;
-use patchwork_core::inverse::{Fidelity, Plan, TuningOverrides, UserSettings, assess, design};
+use patchwork_core::inverse::{Plan, UserSettings, assess, design};
 
+use super::bench_suite::{Suite, suite};
 use super::output::emit;
 
 #[derive(Args)]
 pub struct BenchArgs {
     /// The small suite (two short curves, draft and standard, small budgets):
-    /// minutes instead of hours.
+    /// minutes instead of hours. The same as `--suite quick`.
     #[arg(long)]
     quick: bool,
+    /// Which suite: quick, reference (the presets and their variants on the
+    /// reference curves) or curves (curves unlike the references, draft and
+    /// standard).
+    #[arg(long, value_enum, default_value = "reference")]
+    suite: Suite,
     /// Folder for bench.md and bench.svg.
     #[arg(long, default_value = "bench-out")]
     out: PathBuf,
@@ -54,32 +60,6 @@ const REFERENCE_MESH: MeshSpec = MeshSpec {
     straight_mm: None,
 };
 
-/// One fidelity setting of the suite.
-struct Setting {
-    name: &'static str,
-    fidelity: Fidelity,
-    budget: usize,
-    warm_starts: bool,
-    /// Refine solves, stated per setting rather than taken from the preset,
-    /// so that each row says what it ran.
-    refine: usize,
-    /// The preset's correction of the refine by a finer model (off: refine
-    /// and verify on the verification model).
-    correction: bool,
-}
-
-impl Setting {
-    /// What this row changes of its preset.
-    fn overrides(&self) -> TuningOverrides {
-        TuningOverrides {
-            warm_starts: Some(self.warm_starts),
-            refine_budget: Some(self.refine),
-            correction: Some(self.correction),
-            ..TuningOverrides::default()
-        }
-    }
-}
-
 struct Row {
     curve: String,
     setting: &'static str,
@@ -91,128 +71,6 @@ struct Row {
     dtw_curvature: f64,
     dtw_torsion: f64,
     failures: usize,
-}
-
-/// The suite's target curves, by name.
-type Targets = Vec<(String, Curve)>;
-
-fn suite(quick: bool) -> Result<(Targets, Vec<Setting>)> {
-    let preset = |name: &str, params: serde_json::Value| -> Result<Curve> {
-        Ok(Preset::from_name(name, params)
-            .map_err(anyhow::Error::msg)?
-            .curve(None)?)
-    };
-    let setting = |name, fidelity, budget, warm_starts, refine| Setting {
-        name,
-        fidelity,
-        budget,
-        warm_starts,
-        refine,
-        correction: true,
-    };
-    if quick {
-        let curves = vec![
-            (
-                "part-turn helix (61 mm)".to_string(),
-                preset(
-                    "helix",
-                    serde_json::json!({"radius_mm": 15, "pitch_mm": 40, "turns": 0.6}),
-                )?,
-            ),
-            (
-                "arc 90° (63 mm)".to_string(),
-                preset("arc", serde_json::json!({"radius_mm": 40, "angle_deg": 90}))?,
-            ),
-        ];
-        let settings = vec![
-            setting("draft 60 no refine", Fidelity::Draft, 60, false, 0),
-            setting("draft 60 refine 60", Fidelity::Draft, 60, false, 60),
-            Setting {
-                correction: false,
-                ..setting(
-                    "draft 60 refine 60 uncorrected",
-                    Fidelity::Draft,
-                    60,
-                    false,
-                    60,
-                )
-            },
-            setting(
-                "draft 60 refine 60 warm starts",
-                Fidelity::Draft,
-                60,
-                true,
-                60,
-            ),
-            setting("standard 60 refine 75", Fidelity::Standard, 60, false, 75),
-        ];
-        return Ok((curves, settings));
-    }
-    let reference = |name: &str| preset("reference", serde_json::json!({ "name": name }));
-    let mut curves = vec![
-        ("Hilbert (reference)".to_string(), reference("hilbert")?),
-        ("pancake (reference)".to_string(), reference("pancake")?),
-        ("spring (reference)".to_string(), reference("spring")?),
-        (
-            "helix r20 p60 ×2".to_string(),
-            preset(
-                "helix",
-                serde_json::json!({"radius_mm": 20, "pitch_mm": 60, "turns": 2}),
-            )?,
-        ),
-        (
-            "trefoil knot".to_string(),
-            preset("trefoil", serde_json::json!({"scale_mm": 30}))?,
-        ),
-    ];
-    curves.push((
-        "hand-drawn-style arc (1 % noise, smoothed)".to_string(),
-        noisy_arc()?,
-    ));
-    let as_preset = |name, fidelity: Fidelity, warm_starts| {
-        setting(
-            name,
-            fidelity,
-            fidelity.budget(),
-            warm_starts,
-            fidelity.refine_budget(),
-        )
-    };
-    // The presets run as users get them (cold starts, the default); one row
-    // measures warm starts against that,
-    // one the coarse search alone (no coarse-to-fine refine), and one the
-    // refine without its finer model's correction.
-    let settings = vec![
-        as_preset("draft", Fidelity::Draft, false),
-        Setting {
-            correction: false,
-            ..as_preset("draft without correction", Fidelity::Draft, false)
-        },
-        setting(
-            "draft without refine",
-            Fidelity::Draft,
-            Fidelity::Draft.budget(),
-            false,
-            0,
-        ),
-        as_preset("standard", Fidelity::Standard, false),
-        as_preset("standard with warm starts", Fidelity::Standard, true),
-        as_preset("fine", Fidelity::Fine, false),
-    ];
-    Ok((curves, settings))
-}
-
-/// A 150 mm arc with 1 % (of length) seeded noise, smoothed as a user would.
-fn noisy_arc() -> Result<Curve> {
-    let arc = Preset::from_name(
-        "arc",
-        serde_json::json!({"radius_mm": 60, "angle_deg": 140}),
-    )
-    .map_err(anyhow::Error::msg)?
-    .curve(Some(300))?;
-    Ok(arc
-        .with_noise(0.01, 7)?
-        .smoothed(10.0 * arc.length() / 300.0)?)
 }
 
 fn median(mut values: Vec<f64>) -> f64 {
@@ -228,7 +86,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
     anyhow::ensure!(args.threads >= 1, "--threads must be at least 1");
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
-    let (mut curves, mut settings) = suite(args.quick)?;
+    let chosen = if args.quick { Suite::Quick } else { args.suite };
+    let (mut curves, mut settings) = suite(chosen)?;
     let wanted = |filters: &[String], name: &str| {
         filters.is_empty()
             || filters
@@ -306,11 +165,14 @@ pub fn run(args: BenchArgs) -> Result<()> {
             rows.push(row);
         }
     }
+    let suite_flag = match chosen {
+        Suite::Quick => " --quick",
+        Suite::Reference => "",
+        Suite::Curves => " --suite curves",
+    };
     let mut command = format!(
-        "patchwork bench{} --runs {} --threads {}",
-        if args.quick { " --quick" } else { "" },
-        args.runs,
-        args.threads
+        "patchwork bench{suite_flag} --runs {} --threads {}",
+        args.runs, args.threads
     );
     for (flag, values) in [("curves", &args.curves), ("settings", &args.settings)] {
         if !values.is_empty() {

@@ -1,6 +1,7 @@
 //! Command-line contract. Scripts depend on these names: change with care.
 
 mod bench_cmd;
+mod bench_suite;
 mod curve_cmd;
 pub(crate) mod design_cmd;
 mod input;

@@ -9,7 +9,8 @@ use super::output::emit;
 
 #[derive(Args)]
 pub struct PresetArgs {
-    /// helix, hilbert, saddle, trefoil, arc, line, reference — or `list`.
+    /// helix, hilbert, saddle, trefoil, arc, line, spiral, s_curve, hook,
+    /// grasp, reference — or `list`.
     name: String,
     /// Parameters as KEY=VALUE, e.g. `radius_mm=20 pitch_mm=60 turns=4`;
     /// `reference name=hilbert|pancake|spring`.

@@ -51,6 +51,12 @@ pub struct KsaParams {
     /// How κ and τ are estimated for marking. The default is the authors' scheme,
     /// so the segmentation matches theirs sample for sample.
     pub scheme: DerivativeScheme,
+    /// The longest patch (undeformed, mm): a longer run becomes a train of
+    /// equal patches with gaps of `train_gap_mm`. None: one patch per run
+    /// however long (the authors' algorithm).
+    pub max_patch_mm: Option<f64>,
+    /// The gap between the patches of a train (undeformed, mm).
+    pub train_gap_mm: f64,
 }
 
 impl Default for KsaParams {
@@ -63,6 +69,8 @@ impl Default for KsaParams {
             width_mm: 1.5,
             stretch: Stretch::Uniform,
             scheme: DerivativeScheme::IteratedGradient,
+            max_patch_mm: None,
+            train_gap_mm: 2.0,
         }
     }
 }
@@ -133,6 +141,22 @@ fn validate(p: &KsaParams) -> Result<(), KsaError> {
             });
         }
     }
+    if let Some(max) = p.max_patch_mm
+        && !(max.is_finite() && max > 0.0)
+    {
+        return Err(KsaError {
+            name: "max_patch_mm",
+            value: max,
+            reason: "must be finite and positive",
+        });
+    }
+    if !(p.train_gap_mm.is_finite() && p.train_gap_mm >= 0.0) {
+        return Err(KsaError {
+            name: "train_gap_mm",
+            value: p.train_gap_mm,
+            reason: "must be finite and non-negative",
+        });
+    }
     if !(p.merge_mm.is_finite() && p.merge_mm >= 0.0) {
         return Err(KsaError {
             name: "merge_mm",
@@ -146,7 +170,11 @@ fn validate(p: &KsaParams) -> Result<(), KsaError> {
 /// KSA on an existing analysis (lets callers reuse κ, τ they already computed).
 pub fn ksa_on(analysis: &Analysis, params: &KsaParams) -> KsaResult {
     let lambda = params.stretch.value(analysis.length(), params.l0_mm);
-    let runs = find_runs(analysis, params.kappa_tol, params.merge_mm);
+    let train = params.max_patch_mm.map(|max| Train {
+        max_mm: max * lambda,
+        gap_mm: params.train_gap_mm * lambda,
+    });
+    let runs = find_runs(analysis, params.kappa_tol, params.merge_mm, train);
     let angle = normal_angle_in_bishop_frame(analysis);
     let circumference = TAU * params.r0_mm;
     let mut patches = Vec::with_capacity(runs.len());
@@ -193,7 +221,40 @@ pub fn ksa_on(analysis: &Analysis, params: &KsaParams) -> KsaResult {
     }
 }
 
-fn find_runs(analysis: &Analysis, kappa_tol: f64, merge_mm: f64) -> Vec<Run> {
+/// How long runs are split, in deformed arc length (mm).
+#[derive(Debug, Clone, Copy)]
+struct Train {
+    max_mm: f64,
+    gap_mm: f64,
+}
+
+/// Splits a run's marked samples (indices, by arc length) into the `k`
+/// equal pieces of a train, k = ⌈(L + g) / (max + g)⌉ for a span L: each
+/// piece (L − (k − 1) g) / k long, consecutive pieces `gap_mm` apart. A
+/// piece keeps the marked samples inside its span; one with fewer than two
+/// is dropped (as a single-sample run is).
+fn split_into_train(group: Vec<usize>, s: &[f64], train: Option<Train>) -> Vec<Vec<usize>> {
+    let (first, last) = (s[group[0]], s[group[group.len() - 1]]);
+    let span = last - first;
+    let Some(Train { max_mm, gap_mm }) = train.filter(|t| span > t.max_mm) else {
+        return vec![group];
+    };
+    let k = ((span + gap_mm) / (max_mm + gap_mm)).ceil().max(1.0) as usize;
+    let piece = (span - (k - 1) as f64 * gap_mm) / k as f64;
+    (0..k)
+        .map(|j| {
+            let from = first + j as f64 * (piece + gap_mm);
+            let to = from + piece;
+            group
+                .iter()
+                .copied()
+                .filter(|&i| s[i] >= from - 1e-9 && s[i] <= to + 1e-9)
+                .collect()
+        })
+        .collect()
+}
+
+fn find_runs(analysis: &Analysis, kappa_tol: f64, merge_mm: f64, train: Option<Train>) -> Vec<Run> {
     let marked: Vec<usize> = (0..analysis.len())
         .filter(|&i| analysis.curvature[i] > kappa_tol)
         .collect();
@@ -210,6 +271,7 @@ fn find_runs(analysis: &Analysis, kappa_tol: f64, merge_mm: f64) -> Vec<Run> {
     }
     groups
         .into_iter()
+        .flat_map(|g| split_into_train(g, &analysis.s, train))
         .filter(|g| g.len() > 1)
         .map(|g| {
             let s: Vec<f64> = g.iter().map(|&i| analysis.s[i]).collect();

@@ -5,11 +5,17 @@
 //! on the curve. Parameter names are the JSON names used by the CLI
 //! (`patchwork preset helix radius_mm=20`) and the API (`{"preset", "params"}`).
 
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
+mod hilbert;
+mod sampling;
+
+use std::f64::consts::TAU;
 
 use serde::{Deserialize, Serialize};
 
 use super::{Curve, CurveError, Point, Units, read_text};
+use hilbert::hilbert;
+pub use hilbert::hilbert_length;
+use sampling::{by_arc_length, finite, positive};
 
 /// Number of samples when the caller does not choose.
 pub const DEFAULT_POINTS: usize = 400;
@@ -31,6 +37,15 @@ pub enum Preset {
     Arc(ArcParams),
     /// Straight line along x.
     Line(LineParams),
+    /// A helix whose radius and pitch change linearly along it (a conical
+    /// spiral when the pitch is small).
+    Spiral(SpiralParams),
+    /// Planar S of two equal arcs, with an optional kink at the joint.
+    SCurve(SCurveParams),
+    /// Planar hook: a straight shank and an arc of the given opening.
+    Hook(HookParams),
+    /// Grasp a cylinder: a straight lead, then a helix around the cylinder.
+    Grasp(GraspParams),
     /// One of the authors' published target curves.
     Reference(ReferenceParams),
 }
@@ -66,6 +81,32 @@ params!(ArcParams {
     angle_deg: 180.0
 });
 params!(LineParams { length_mm: 600.0 });
+params!(SpiralParams {
+    start_radius_mm: 25.0,
+    end_radius_mm: 60.0,
+    start_pitch_mm: 20.0,
+    end_pitch_mm: 20.0,
+    turns: 1.5
+});
+params!(SCurveParams {
+    radius_mm: 60.0,
+    angle_deg: 90.0,
+    kink_deg: 0.0
+});
+params!(HookParams {
+    shank_mm: 120.0,
+    opening_mm: 60.0,
+    angle_deg: 200.0
+});
+params!(GraspParams {
+    diameter_mm: 40.0,
+    turns: 1.5,
+    pitch_mm: 30.0,
+    lead_mm: 60.0,
+    tube_radius_mm: 8.9
+});
+
+mod applications;
 
 /// Which published reference curve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -94,9 +135,9 @@ impl ReferenceCurve {
 
     fn csv(self) -> &'static str {
         match self {
-            ReferenceCurve::Hilbert => include_str!("../../data/curves/hilbert_curve.csv"),
-            ReferenceCurve::Pancake => include_str!("../../data/curves/pancake_curve.csv"),
-            ReferenceCurve::Spring => include_str!("../../data/curves/spring_like_curve.csv"),
+            ReferenceCurve::Hilbert => include_str!("../../../data/curves/hilbert_curve.csv"),
+            ReferenceCurve::Pancake => include_str!("../../../data/curves/pancake_curve.csv"),
+            ReferenceCurve::Spring => include_str!("../../../data/curves/spring_like_curve.csv"),
         }
     }
 
@@ -116,13 +157,17 @@ impl ReferenceCurve {
 
 impl Preset {
     /// The preset names as written on the command line and in JSON.
-    pub const NAMES: [&'static str; 7] = [
+    pub const NAMES: [&'static str; 11] = [
         "helix",
         "hilbert",
         "saddle",
         "trefoil",
         "arc",
         "line",
+        "spiral",
+        "s_curve",
+        "hook",
+        "grasp",
         "reference",
     ];
 
@@ -247,164 +292,13 @@ impl Preset {
                     .collect();
                 Curve::from_points(points)
             }
+            Preset::Spiral(p) => applications::spiral(p, n),
+            Preset::SCurve(p) => applications::s_curve(p, n),
+            Preset::Hook(p) => applications::hook(p, n),
+            Preset::Grasp(p) => applications::grasp(p, n),
             Preset::Reference(ReferenceParams { name }) => name.curve().resample(n),
         }
     }
-}
-
-fn finite(name: &'static str, value: f64) -> Result<(), CurveError> {
-    if value.is_finite() {
-        Ok(())
-    } else {
-        Err(CurveError::InvalidParameter {
-            name,
-            value,
-            reason: "must be finite",
-        })
-    }
-}
-
-fn positive(name: &'static str, value: f64) -> Result<(), CurveError> {
-    finite(name, value)?;
-    if value > 0.0 {
-        Ok(())
-    } else {
-        Err(CurveError::InvalidParameter {
-            name,
-            value,
-            reason: "must be positive",
-        })
-    }
-}
-
-/// Samples `f` on `[0, end]` at `n` points equally spaced in arc length: a dense
-/// polyline gives the arc-length-to-parameter map, then each sample is evaluated
-/// on `f` itself so it lies exactly on the curve.
-fn by_arc_length(f: impl Fn(f64) -> Point, end: f64, n: usize) -> Result<Curve, CurveError> {
-    let dense = (n * 16).max(4096);
-    let t: Vec<f64> = (0..=dense).map(|i| end * i as f64 / dense as f64).collect();
-    let mut s = vec![0.0; t.len()];
-    for i in 1..t.len() {
-        s[i] = s[i - 1] + (f(t[i]) - f(t[i - 1])).norm();
-    }
-    let total = s[dense];
-    let mut points = Vec::with_capacity(n);
-    let mut k = 1;
-    for i in 0..n {
-        let target = total * i as f64 / (n - 1) as f64;
-        while k < dense && s[k] < target {
-            k += 1;
-        }
-        let w = ((target - s[k - 1]) / (s[k] - s[k - 1])).clamp(0.0, 1.0);
-        points.push(f(t[k - 1] + w * (t[k] - t[k - 1])));
-    }
-    Curve::from_points(points)
-}
-
-/// One piece of a line-and-fillet path.
-enum Piece {
-    Line {
-        from: Point,
-        direction: Point,
-        length: f64,
-    },
-    Fillet {
-        corner: Point,
-        incoming: Point,
-        outgoing: Point,
-        radius: f64,
-    },
-}
-
-impl Piece {
-    fn length(&self) -> f64 {
-        match self {
-            Piece::Line { length, .. } => *length,
-            Piece::Fillet { radius, .. } => FRAC_PI_2 * radius,
-        }
-    }
-
-    fn at(&self, s: f64) -> Point {
-        match self {
-            Piece::Line {
-                from, direction, ..
-            } => from + direction * s,
-            Piece::Fillet {
-                corner,
-                incoming,
-                outgoing,
-                radius,
-            } => {
-                // Quarter circle tangent to both edges at distance r from the corner,
-                // centre c = corner − r·incoming + r·outgoing.
-                let alpha = s / radius;
-                let centre = corner - incoming * *radius + outgoing * *radius;
-                centre + *radius * (incoming * alpha.sin() - outgoing * alpha.cos())
-            }
-        }
-    }
-}
-
-fn hilbert(edge: f64, radius: f64, n: usize) -> Result<Curve, CurveError> {
-    // Cube vertices in Gray-code order (the first-order 3D Hilbert curve), in the
-    // same order as the authors' reference curve.
-    let unit = [
-        [0., 0., 0.],
-        [0., 1., 0.],
-        [0., 1., 1.],
-        [0., 0., 1.],
-        [1., 0., 1.],
-        [1., 1., 1.],
-        [1., 1., 0.],
-        [1., 0., 0.],
-    ];
-    let vertex: Vec<Point> = unit.iter().map(|v| Point::from(*v) * edge).collect();
-    let mut pieces = Vec::new();
-    let mut start = vertex[0];
-    for i in 1..vertex.len() {
-        let direction = (vertex[i] - vertex[i - 1]).normalize();
-        let is_last = i + 1 == vertex.len();
-        let end = if is_last {
-            vertex[i]
-        } else {
-            vertex[i] - direction * radius
-        };
-        pieces.push(Piece::Line {
-            from: start,
-            direction,
-            length: (end - start).norm(),
-        });
-        if !is_last {
-            let outgoing = (vertex[i + 1] - vertex[i]).normalize();
-            pieces.push(Piece::Fillet {
-                corner: vertex[i],
-                incoming: direction,
-                outgoing,
-                radius,
-            });
-            start = vertex[i] + outgoing * radius;
-        }
-    }
-    let total: f64 = pieces.iter().map(Piece::length).sum();
-    let mut points = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut s = total * i as f64 / (n - 1) as f64;
-        let mut chosen = pieces.last().expect("seven edges");
-        for piece in &pieces {
-            if s <= piece.length() {
-                chosen = piece;
-                break;
-            }
-            s -= piece.length();
-        }
-        points.push(chosen.at(s.min(chosen.length())));
-    }
-    Curve::from_points(points)
-}
-
-/// Length of the ideal filleted Hilbert curve: 7 edges, 6 quarter-circle corners.
-pub fn hilbert_length(edge: f64, radius: f64) -> f64 {
-    7.0 * edge - 6.0 * (2.0 * radius - PI * radius / 2.0)
 }
 
 #[cfg(test)]
@@ -469,7 +363,7 @@ mod tests {
         assert!(err.to_string().contains("radius_mm"));
         let err = Preset::from_name("helix", serde_json::json!({"radius": 3})).unwrap_err();
         assert!(err.contains("radius"), "{err}");
-        let err = Preset::from_name("spiral", serde_json::json!({})).unwrap_err();
+        let err = Preset::from_name("lissajous", serde_json::json!({})).unwrap_err();
         assert!(err.contains("unknown preset"), "{err}");
         let ok = Preset::from_name("helix", serde_json::json!({"turns": 2})).unwrap();
         assert_eq!(ok, Preset::helix(20.0, 60.0, 2.0));

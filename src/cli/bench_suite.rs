@@ -1,0 +1,233 @@
+//! The bench's target curves and settings: the quick suite, the reference
+//! suite (time against error per preset) and the any-curve suite (curves
+//! unlike the references, each under the presets as users get them).
+
+use anyhow::Result;
+use patchwork_core::curve::{Curve, Point, Preset};
+use patchwork_core::inverse::{Fidelity, TuningOverrides};
+use serde_json::json;
+
+/// Which suite a bench runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Suite {
+    /// Two short curves, small budgets: minutes.
+    Quick,
+    /// The three reference curves, a helix, a trefoil knot and a noisy arc
+    /// under every preset and its variants: hours.
+    Reference,
+    /// Curves unlike the references (long bends, spirals, an S with and
+    /// without a kink, grasps, a hook, a knot, hand-drawn input) and the
+    /// references, under draft and standard as users get them.
+    Curves,
+}
+
+/// The suite's target curves, by name.
+pub type Targets = Vec<(String, Curve)>;
+
+/// One fidelity setting of the suite.
+pub struct Setting {
+    pub name: &'static str,
+    pub fidelity: Fidelity,
+    pub budget: usize,
+    pub warm_starts: bool,
+    /// Refine solves, stated per setting rather than taken from the preset,
+    /// so that each row says what it ran.
+    pub refine: usize,
+    /// The preset's correction of the refine by a finer model (off: refine
+    /// and verify on the verification model).
+    pub correction: bool,
+}
+
+impl Setting {
+    fn new(name: &'static str, fidelity: Fidelity, budget: usize, refine: usize) -> Setting {
+        Setting {
+            name,
+            fidelity,
+            budget,
+            warm_starts: false,
+            refine,
+            correction: true,
+        }
+    }
+
+    /// The preset as users get it (cold starts, its budgets, corrected).
+    fn preset(name: &'static str, fidelity: Fidelity) -> Setting {
+        Setting::new(name, fidelity, fidelity.budget(), fidelity.refine_budget())
+    }
+
+    /// What this row changes of its preset.
+    pub fn overrides(&self) -> TuningOverrides {
+        TuningOverrides {
+            warm_starts: Some(self.warm_starts),
+            refine_budget: Some(self.refine),
+            correction: Some(self.correction),
+            ..TuningOverrides::default()
+        }
+    }
+}
+
+/// The curves and settings of `suite`.
+pub fn suite(suite: Suite) -> Result<(Targets, Vec<Setting>)> {
+    match suite {
+        Suite::Quick => quick(),
+        Suite::Reference => reference(),
+        Suite::Curves => any_curve(),
+    }
+}
+
+fn preset(name: &str, params: serde_json::Value) -> Result<Curve> {
+    Ok(Preset::from_name(name, params)
+        .map_err(anyhow::Error::msg)?
+        .curve(None)?)
+}
+
+fn reference_curve(name: &str) -> Result<Curve> {
+    preset("reference", json!({ "name": name }))
+}
+
+fn quick() -> Result<(Targets, Vec<Setting>)> {
+    let curves = vec![
+        (
+            "part-turn helix (61 mm)".to_string(),
+            preset(
+                "helix",
+                json!({"radius_mm": 15, "pitch_mm": 40, "turns": 0.6}),
+            )?,
+        ),
+        (
+            "arc 90° (63 mm)".to_string(),
+            preset("arc", json!({"radius_mm": 40, "angle_deg": 90}))?,
+        ),
+    ];
+    let draft = Fidelity::Draft;
+    let settings = vec![
+        Setting::new("draft 60 no refine", draft, 60, 0),
+        Setting::new("draft 60 refine 60", draft, 60, 60),
+        Setting {
+            correction: false,
+            ..Setting::new("draft 60 refine 60 uncorrected", draft, 60, 60)
+        },
+        Setting {
+            warm_starts: true,
+            ..Setting::new("draft 60 refine 60 warm starts", draft, 60, 60)
+        },
+        Setting::new("standard 60 refine 75", Fidelity::Standard, 60, 75),
+    ];
+    Ok((curves, settings))
+}
+
+fn reference() -> Result<(Targets, Vec<Setting>)> {
+    let curves = vec![
+        (
+            "Hilbert (reference)".to_string(),
+            reference_curve("hilbert")?,
+        ),
+        (
+            "pancake (reference)".to_string(),
+            reference_curve("pancake")?,
+        ),
+        ("spring (reference)".to_string(), reference_curve("spring")?),
+        (
+            "helix r20 p60 ×2".to_string(),
+            preset(
+                "helix",
+                json!({"radius_mm": 20, "pitch_mm": 60, "turns": 2}),
+            )?,
+        ),
+        (
+            "trefoil knot".to_string(),
+            preset("trefoil", json!({"scale_mm": 30}))?,
+        ),
+        (
+            "hand-drawn-style arc (1 % noise, smoothed)".to_string(),
+            noisy_arc()?,
+        ),
+    ];
+    // The presets run as users get them (cold starts, the default); one row
+    // measures warm starts against that, one the coarse search alone (no
+    // coarse-to-fine refine), and one the refine without its finer model's
+    // correction.
+    let draft = Fidelity::Draft;
+    let settings = vec![
+        Setting::preset("draft", draft),
+        Setting {
+            correction: false,
+            ..Setting::preset("draft without correction", draft)
+        },
+        Setting::new("draft without refine", draft, draft.budget(), 0),
+        Setting::preset("standard", Fidelity::Standard),
+        Setting {
+            warm_starts: true,
+            ..Setting::preset("standard with warm starts", Fidelity::Standard)
+        },
+        Setting::preset("fine", Fidelity::Fine),
+    ];
+    Ok((curves, settings))
+}
+
+/// A 150 mm arc with 1 % (of length) seeded noise, smoothed as a user would.
+fn noisy_arc() -> Result<Curve> {
+    let arc = Preset::from_name("arc", json!({"radius_mm": 60, "angle_deg": 140}))
+        .map_err(anyhow::Error::msg)?
+        .curve(Some(300))?;
+    Ok(arc
+        .with_noise(0.01, 7)?
+        .smoothed(10.0 * arc.length() / 300.0)?)
+}
+
+fn any_curve() -> Result<(Targets, Vec<Setting>)> {
+    let mut curves = Vec::new();
+    for radius in [40, 80, 150] {
+        curves.push((
+            format!("arc r{radius} 180°"),
+            preset("arc", json!({"radius_mm": radius, "angle_deg": 180}))?,
+        ));
+    }
+    let shapes = [
+        ("planar S r60 90°", "s_curve", json!({})),
+        ("S with a 30° kink", "s_curve", json!({"kink_deg": 30})),
+        ("conical spiral r25→60", "spiral", json!({})),
+        (
+            "helix r30→50, pitch 40→80",
+            "spiral",
+            json!({"start_radius_mm": 30, "end_radius_mm": 50,
+                   "start_pitch_mm": 40, "end_pitch_mm": 80, "turns": 1.5}),
+        ),
+        ("grasp a 10 mm nozzle", "grasp", json!({"diameter_mm": 10})),
+        ("grasp a 40 mm pipe", "grasp", json!({"diameter_mm": 40})),
+        ("hook", "hook", json!({})),
+        ("trefoil knot", "trefoil", json!({"scale_mm": 30})),
+    ];
+    for (name, family, params) in shapes {
+        curves.push((name.to_string(), preset(family, params)?));
+    }
+    curves.push(("hand-drawn hook (±0.3 mm)".to_string(), hand_drawn(false)?));
+    curves.push((
+        "hand-drawn 3D loop (±0.3 mm)".to_string(),
+        hand_drawn(true)?,
+    ));
+    for name in ["hilbert", "pancake", "spring"] {
+        curves.push((format!("{name} (reference)"), reference_curve(name)?));
+    }
+    let settings = vec![
+        Setting::preset("draft", Fidelity::Draft),
+        Setting::preset("standard", Fidelity::Standard),
+    ];
+    Ok((curves, settings))
+}
+
+/// A curve as a hand draws it: a smooth stroke (a few slow harmonics, planar
+/// or not) sampled every millimetre or so, with seeded jitter of 0.3 mm.
+fn hand_drawn(three_d: bool) -> Result<Curve> {
+    let stroke = |t: f64| -> Point {
+        let x = 260.0 * t + 12.0 * (3.1 * t).sin();
+        let y = 70.0 * (1.0 - (2.6 * t).cos()) + 6.0 * (7.3 * t + 0.4).sin();
+        let z = match three_d {
+            true => 55.0 * (3.7 * t).sin() + 4.0 * (9.1 * t).cos(),
+            false => 0.0,
+        };
+        Point::new(x, y, z)
+    };
+    let clean = Curve::from_points((0..320).map(|i| stroke(i as f64 / 319.0)).collect())?;
+    Ok(clean.with_noise(0.3 / clean.length(), if three_d { 31 } else { 17 })?)
+}
