@@ -238,7 +238,7 @@ fn bad_options_get_one_line_naming_the_option() {
         &patchwork(&["curve", "does/not/exist.csv"]),
         "does/not/exist.csv",
     );
-    assert_one_line_error(&patchwork(&["preset", "spiral"]), "unknown preset");
+    assert_one_line_error(&patchwork(&["preset", "lissajous"]), "unknown preset");
     assert_one_line_error(
         &patchwork(&["preset", "helix", "radius_mm=-2"]),
         "radius_mm",

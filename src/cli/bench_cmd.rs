@@ -70,6 +70,9 @@ struct Row {
     reference_error_percent: f64,
     dtw_curvature: f64,
     dtw_torsion: f64,
+    patches: f64,
+    /// Patch sizes or angles beyond a fabrication limit (the most over the runs).
+    beyond_limits: f64,
     failures: usize,
 }
 
@@ -133,6 +136,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
                             reference,
                             o.metrics.dtw_curvature,
                             o.metrics.dtw_torsion,
+                            o.design.patches.len() as f64,
+                            o.at_limits.iter().filter(|a| a.beyond).count() as f64,
                         ])
                     }
                     Err(e) => {
@@ -151,16 +156,20 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 reference_error_percent: column(3),
                 dtw_curvature: column(4),
                 dtw_torsion: column(5),
+                patches: column(6),
+                beyond_limits: samples.iter().map(|s| s[7]).fold(0.0, f64::max),
                 failures,
             };
             eprintln!(
-                "{:<40} {:<30} {:>8.2} s {:>6.0} evals {:>6.2} % (reference model {:.2} %)",
+                "{:<40} {:<24} {:>8.2} s {:>6.0} evals {:>6.2} % (reference model {:.2} %), {} patches, {} beyond limits",
                 row.curve,
                 row.setting,
                 row.wall_s,
                 row.evaluations,
                 row.shape_error_percent,
-                row.reference_error_percent
+                row.reference_error_percent,
+                row.patches,
+                row.beyond_limits
             );
             rows.push(row);
         }
@@ -190,12 +199,12 @@ fn table(rows: &[Row], command: &str) -> String {
         "`{command}` — medians over the runs\n\n\
          Shape error on the run's own verification model, and of its design \
          re-simulated on the common reference model (uniform 0.5 mm).\n\n\
-         | curve | setting | wall s | evaluations | shape error % (own) | shape error % (reference) | DTW κ | DTW τ | failed runs |\n\
-         |---|---|---|---|---|---|---|---|---|\n"
+         | curve | setting | wall s | evaluations | shape error % (own) | shape error % (reference) | DTW κ | DTW τ | patches | beyond limits | failed runs |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n"
     );
     for r in rows {
         out.push_str(&format!(
-            "| {} | {} | {:.2} | {:.0} | {:.2} | {:.2} | {:.3} | {:.3} | {} |\n",
+            "| {} | {} | {:.2} | {:.0} | {:.2} | {:.2} | {:.3} | {:.3} | {:.0} | {:.0} | {} |\n",
             r.curve,
             r.setting,
             r.wall_s,
@@ -204,6 +213,8 @@ fn table(rows: &[Row], command: &str) -> String {
             r.reference_error_percent,
             r.dtw_curvature,
             r.dtw_torsion,
+            r.patches,
+            r.beyond_limits,
             r.failures
         ));
     }

@@ -36,6 +36,11 @@ pub struct Setting {
     /// The preset's correction of the refine by a finer model (off: refine
     /// and verify on the verification model).
     pub correction: bool,
+    /// Long bends as trains of patches within the bounds (off: KSA's one
+    /// patch per bend).
+    pub trains: bool,
+    /// KSA's curvature tolerance (mm⁻¹) instead of the preset's.
+    pub kappa_tol: Option<f64>,
 }
 
 impl Setting {
@@ -47,6 +52,8 @@ impl Setting {
             warm_starts: false,
             refine,
             correction: true,
+            trains: true,
+            kappa_tol: None,
         }
     }
 
@@ -61,6 +68,8 @@ impl Setting {
             warm_starts: Some(self.warm_starts),
             refine_budget: Some(self.refine),
             correction: Some(self.correction),
+            trains: Some(self.trains),
+            kappa_tol: self.kappa_tol,
             ..TuningOverrides::default()
         }
     }
@@ -211,6 +220,14 @@ fn any_curve() -> Result<(Targets, Vec<Setting>)> {
     }
     let settings = vec![
         Setting::preset("draft", Fidelity::Draft),
+        Setting {
+            trains: false,
+            ..Setting::preset("draft without trains", Fidelity::Draft)
+        },
+        Setting {
+            kappa_tol: Some(0.004),
+            ..Setting::preset("draft κ_tol 0.004", Fidelity::Draft)
+        },
         Setting::preset("standard", Fidelity::Standard),
     ];
     Ok((curves, settings))

@@ -112,6 +112,12 @@ pub struct DesignArgs {
     /// uncorrected (and standard's and fine's final refine is dropped).
     #[arg(long)]
     mesh_mm: Option<f64>,
+    /// Expert tuning as JSON (a file, `-` for stdin, or inline `{…}`), laid over the fidelity
+    /// preset: search_patience, initial_step, start, warm_starts, objective,
+    /// uniform_mesh_mm, polish_budget, refine_budget, correction,
+    /// final_refine, trains, kappa_tol. The flags above win over it.
+    #[arg(long)]
+    tuning: Option<String>,
     /// Write the run's state here after every generation; if the file exists,
     /// resume from it (same curve and options) instead of starting again.
     #[arg(long)]
@@ -168,16 +174,24 @@ impl DesignArgs {
             squared: self.squared,
             ..ObjectiveOptions::default()
         });
+        let file: TuningOverrides = match &self.tuning {
+            Some(inline) if inline.trim_start().starts_with('{') => {
+                serde_json::from_str(inline).map_err(|e| anyhow::anyhow!("--tuning: {e}"))?
+            }
+            Some(name) => serde_json::from_str(&read_text_argument(name)?)
+                .map_err(|e| anyhow::anyhow!("--tuning: {name}: {e}"))?,
+            None => TuningOverrides::default(),
+        };
         let overrides = TuningOverrides {
-            search_patience: self.patience,
-            initial_step: self.initial_step,
-            start: self.start,
-            objective,
-            uniform_mesh_mm: self.mesh_mm,
-            polish_budget: self.polish,
-            refine_budget: self.refine,
-            correction: self.no_correction.then_some(false),
-            ..TuningOverrides::default()
+            search_patience: self.patience.or(file.search_patience),
+            initial_step: self.initial_step.or(file.initial_step),
+            start: self.start.or(file.start),
+            objective: objective.or(file.objective),
+            uniform_mesh_mm: self.mesh_mm.or(file.uniform_mesh_mm),
+            polish_budget: self.polish.or(file.polish_budget),
+            refine_budget: self.refine.or(file.refine_budget),
+            correction: self.no_correction.then_some(false).or(file.correction),
+            ..file
         };
         Plan::resolve(settings, &overrides).map_err(flag_error)
     }

@@ -75,7 +75,7 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             json!({"curve": {"csv": "x,y,z\n0,0,0\n1,0,zero\n2,0,0\n3,0,0\n"}}),
             "curve.csv",
         ),
-        (json!({"curve": {"preset": "spiral"}}), "curve.preset"),
+        (json!({"curve": {"preset": "lissajous"}}), "curve.preset"),
         (
             json!({"curve": {"preset": "helix", "params": {"radius_mm": -1}}}),
             "curve.params",

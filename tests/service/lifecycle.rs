@@ -63,7 +63,11 @@ async fn a_job_runs_to_done_and_its_files_download() {
             .unwrap()
             .is_finite()
     );
-    assert_eq!(result["design"]["patches"].as_array().unwrap().len(), 1);
+    // The quarter turn (63 mm of curve) is longer than one patch within the
+    // default 30 mm limit makes it: a train of two, each within the limit.
+    let patches = result["design"]["patches"].as_array().unwrap();
+    assert_eq!(patches.len(), 2, "{patches:?}");
+    assert!(patches.iter().all(|p| p["h_mm"].as_f64().unwrap() <= 30.0));
 
     for (name, content_type) in [
         ("patches.dxf", "application/dxf"),

@@ -2,6 +2,7 @@
 
 use patchwork_core::curve::presets::{ArcParams, LineParams};
 use patchwork_core::curve::{Curve, Point, Preset, ReferenceCurve};
+use patchwork_core::design::Patch;
 use patchwork_core::ksa::{KsaParams, Stretch, ksa};
 
 /// DESIGN.md: the authors' KSA on `hilbert_curve.csv` (L0 = 292 mm, R0 = 3.18 mm,
@@ -191,4 +192,49 @@ fn invalid_parameters_are_named() {
         let err = ksa(&curve, &params).unwrap_err();
         assert_eq!(err.name, name);
     }
+}
+
+/// A bend longer than the longest patch becomes a train: on a 180° arc of
+/// radius 80 mm KSA's one patch spans the balloon (H ≈ 290 mm); with a
+/// 30 mm limit and 2 mm gaps it becomes ⌈(H + 2) / 32⌉ patches, every one
+/// within the limit, in order along the balloon, bending the same way (X
+/// equal: a planar arc), covering the same span.
+#[test]
+fn a_long_bend_becomes_a_train_of_patches_within_the_limit() {
+    let arc = Preset::Arc(ArcParams {
+        radius_mm: 80.0,
+        angle_deg: 180.0,
+    })
+    .generate(400)
+    .unwrap();
+    let whole = ksa(&arc, &KsaParams::default()).unwrap();
+    assert_eq!(whole.patches.len(), 1);
+    let single = whole.patches[0];
+    assert!(single.h_mm > 250.0, "{single:?}");
+    let params = KsaParams {
+        max_patch_mm: Some(30.0),
+        ..KsaParams::default()
+    };
+    let train = ksa(&arc, &params).unwrap();
+    let patches = &train.patches;
+    let expected = ((single.h_mm + 2.0) / 32.0).ceil() as usize;
+    assert_eq!(patches.len(), expected, "{patches:?}");
+    assert!(patches.iter().all(|p| p.h_mm <= 30.0 && p.h_mm > 25.0));
+    for pair in patches.windows(2) {
+        let gap = (pair[1].y_mm - pair[1].h_mm / 2.0) - (pair[0].y_mm + pair[0].h_mm / 2.0);
+        assert!((2.0..3.5).contains(&gap), "gap {gap} mm");
+        assert!((pair[1].x_mm - pair[0].x_mm).abs() < 1e-6);
+    }
+    // The train covers the span the single patch covered.
+    let (first, last) = (patches[0], patches[expected - 1]);
+    let start = |p: Patch| p.y_mm - p.h_mm / 2.0;
+    let end = |p: Patch| p.y_mm + p.h_mm / 2.0;
+    assert!((start(first) - start(single)).abs() < 1e-9);
+    assert!((end(last) - end(single)).abs() < 1.5);
+    // A limit that is not positive is refused by name.
+    let bad = KsaParams {
+        max_patch_mm: Some(0.0),
+        ..KsaParams::default()
+    };
+    assert_eq!(ksa(&arc, &bad).unwrap_err().name, "max_patch_mm");
 }

@@ -132,4 +132,14 @@ impl Design {
             p.h_mm *= ratio;
         }
     }
+
+    /// Scales the balloon's length by `ratio` and the patches' axial
+    /// positions with it, keeping the patches' sizes: a balloon cut longer
+    /// or shorter with the same patches placed at the same fractions of it.
+    pub fn stretch_positions(&mut self, ratio: f64) {
+        self.balloon.length_mm *= ratio;
+        for p in &mut self.patches {
+            p.y_mm *= ratio;
+        }
+    }
 }

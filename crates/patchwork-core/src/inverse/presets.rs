@@ -168,6 +168,7 @@ impl Fidelity {
                 staging_solves: FINAL_REFINE_STAGING,
                 newton: NewtonOptions::default(),
             }),
+            trains: true,
             ..Tuning::default()
         }
     }

@@ -42,6 +42,10 @@ pub struct Tuning {
     pub kappa_tol: f64,
     pub merge_mm: f64,
     pub width_mm: f64,
+    /// A KSA run longer than the longest patch the bounds allow
+    /// (`h_max_mm`) becomes a train of patches within it; off: one patch
+    /// per run however long (the authors' KSA).
+    pub trains: bool,
     /// Evaluations of a CMA-ES polish on the verification model after the
     /// search (0 or 1: none). Not checkpointed: a resumed run repeats it.
     pub polish_budget: usize,
@@ -72,6 +76,7 @@ impl Default for Tuning {
             kappa_tol: 0.01,
             merge_mm: 20.0,
             width_mm: 1.5,
+            trains: false,
             polish_budget: 0,
             refine_budget: 0,
             correction_mesh: None,
@@ -153,6 +158,10 @@ pub struct TuningOverrides {
     pub correction: Option<bool>,
     /// false: no final refine.
     pub final_refine: Option<bool>,
+    /// Whether long KSA runs become trains of patches within the bounds.
+    pub trains: Option<bool>,
+    /// KSA's curvature tolerance (mm⁻¹): bends gentler than this get no patch.
+    pub kappa_tol: Option<f64>,
 }
 
 impl TuningOverrides {
@@ -176,6 +185,8 @@ impl TuningOverrides {
         tuning.start = self.start.unwrap_or(tuning.start);
         tuning.warm_starts = self.warm_starts.unwrap_or(tuning.warm_starts);
         tuning.objective = self.objective.unwrap_or(tuning.objective);
+        tuning.trains = self.trains.unwrap_or(tuning.trains);
+        tuning.kappa_tol = self.kappa_tol.unwrap_or(tuning.kappa_tol);
         if self.correction == Some(false) {
             tuning.correction_mesh = None;
         }

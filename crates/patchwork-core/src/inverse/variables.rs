@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::design::Patch;
+use crate::design::{Design, Patch};
 
 /// Which of a patch's parameters the optimiser may change.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -128,6 +128,33 @@ impl VariableBounds {
     }
 }
 
+impl VariableBounds {
+    /// `design` with every patch's H and W clamped into these limits; none
+    /// if they all are within them already.
+    pub fn sizes_within(&self, design: &Design) -> Option<Design> {
+        let inside = |p: &Patch| {
+            (self.h_min_mm..=self.h_max_mm).contains(&p.h_mm)
+                && (self.w_min_mm..=self.w_max_mm).contains(&p.w_mm)
+        };
+        if design.patches.iter().all(inside) {
+            return None;
+        }
+        let patches = design
+            .patches
+            .iter()
+            .map(|p| Patch {
+                h_mm: p.h_mm.clamp(self.h_min_mm, self.h_max_mm),
+                w_mm: p.w_mm.clamp(self.w_min_mm, self.w_max_mm),
+                ..*p
+            })
+            .collect();
+        Some(Design {
+            patches,
+            ..design.clone()
+        })
+    }
+}
+
 /// An impossible bound, naming the field.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("bounds.{field}: {reason}")]
@@ -179,6 +206,28 @@ impl DesignSpace {
             }
         }
         Ok(DesignSpace { seed, free })
+    }
+
+    /// The space around `seed` with its sizes first brought within the
+    /// fabrication limits (H and W clamped into them), so that no point of
+    /// it lies beyond a limit; [`DesignSpace::new`] instead widens a size's
+    /// range to hold a seed beyond it.
+    pub fn within_limits(
+        seed: &[Patch],
+        freedom: Freedom,
+        bounds: &VariableBounds,
+        balloon_length: f64,
+    ) -> Result<DesignSpace, VariableError> {
+        bounds.validate()?;
+        let inside = seed
+            .iter()
+            .map(|p| Patch {
+                h_mm: p.h_mm.clamp(bounds.h_min_mm, bounds.h_max_mm),
+                w_mm: p.w_mm.clamp(bounds.w_min_mm, bounds.w_max_mm),
+                ..*p
+            })
+            .collect();
+        DesignSpace::new(inside, freedom, bounds, balloon_length)
     }
 
     pub fn dimension(&self) -> usize {

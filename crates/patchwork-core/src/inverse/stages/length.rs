@@ -1,7 +1,8 @@
 //! Length correction: the balloon length was chosen for the seed, and the
 //! best design's patches stretch differently. Scale it once more (patch
-//! positions and lengths with it) so the verified inflated length matches
-//! the target's, and verify the corrected design.
+//! positions and lengths with it, the lengths kept within the fabrication
+//! limits) so the verified inflated length matches the target's, and verify
+//! the corrected design.
 
 use super::super::errors::DesignRunError;
 use super::super::run::{Context, Run};
@@ -20,6 +21,12 @@ impl RunStage for LengthCorrection {
         run.verified = Some(simulation);
         if (ratio - 1.0).abs() > LENGTH_TOLERANCE {
             run.design.stretch_length(ratio);
+            let bounds = &run.setup.settings.bounds;
+            for patch in &mut run.design.patches {
+                if (bounds.h_min_mm..=bounds.h_max_mm).contains(&(patch.h_mm / ratio)) {
+                    patch.h_mm = patch.h_mm.clamp(bounds.h_min_mm, bounds.h_max_mm);
+                }
+            }
             let corrected = ctx
                 .caches
                 .simulate(&run.design, &run.setup.verify_model)

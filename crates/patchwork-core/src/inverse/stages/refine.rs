@@ -28,7 +28,17 @@ impl RunStage for Refine {
         if run.space.dimension() == 0 || self.solves == 0 {
             return Ok(());
         }
-        let simulation = run.take_verified("refine")?;
+        let mut simulation = run.take_verified("refine")?;
+        // A design beyond a fabrication limit (KSA's one long patch, without
+        // trains) is brought within the limits first, so that every design
+        // the refine compares, its start included, is one that can be made.
+        if let Some(inside) = run.setup.settings.bounds.sizes_within(&run.design) {
+            let model = &run.setup.verify_model;
+            if let Ok(solved) = ctx.caches.simulate_from(&inside, model, Some(&simulation)) {
+                (run.design, simulation) = (inside, solved);
+                run.state.evaluations += 1;
+            }
+        }
         let problem = refine_problem(run, ctx.cancel, ctx.caches);
         let spent = run.state.evaluations;
         let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);

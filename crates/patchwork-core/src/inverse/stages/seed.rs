@@ -8,7 +8,7 @@ use super::super::errors::DesignRunError;
 use super::super::incumbent::score;
 use super::super::outcome::Stage;
 use super::super::run::{Context, Run, Setup};
-use super::super::tuning::{Start, Tuning};
+use super::super::tuning::Start;
 use super::super::variables::{DesignSpace, Freedom, VariableBounds};
 use crate::curve::Curve;
 use crate::design::{Design, Patch};
@@ -136,7 +136,7 @@ fn seeded_balloon(
         true => b.length_mm,
         false => target_length / state.axial,
     };
-    let mut seed_patches = ksa_seed(target, &base, length, setup.tuning)?;
+    let mut seed_patches = ksa_seed(target, &base, length, setup)?;
     if !fix_length {
         // Patches stretch less than bare wall, and the mesh is not the
         // membrane theory: correct the length once from a simulation of the
@@ -156,6 +156,11 @@ fn seeded_balloon(
         trial.stretch_length(target_length / sim.inflated_length_mm);
         length = trial.balloon.length_mm;
         seed_patches = trial.patches;
+        if setup.tuning.trains {
+            // KSA at the corrected length is the stretched seed, except
+            // that its trains are split for patch lengths on this balloon.
+            seed_patches = ksa_seed(target, &base, length, setup)?;
+        }
     }
     let mut seeded = Design {
         patches: seed_patches,
@@ -184,9 +189,12 @@ fn ksa_seed(
     target: &Curve,
     base: &Design,
     length: f64,
-    tuning: &Tuning,
+    setup: &Setup<'_>,
 ) -> Result<Vec<Patch>, DesignRunError> {
+    let tuning = setup.tuning;
+    let max_patch_mm = tuning.trains.then_some(setup.settings.bounds.h_max_mm);
     let params = KsaParams {
+        max_patch_mm,
         l0_mm: length,
         r0_mm: base.balloon.radius_mm,
         kappa_tol: tuning.kappa_tol,

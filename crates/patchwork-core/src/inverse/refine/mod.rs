@@ -150,8 +150,8 @@ struct ShapeResiduals<'p> {
 
 impl<'p> ShapeResiduals<'p> {
     fn new(problem: &'p RefineProblem<'p>, start: Design) -> Result<Self, DesignRunError> {
-        let space = DesignSpace::new(
-            start.patches.clone(),
+        let space = DesignSpace::within_limits(
+            &start.patches,
             problem.freedom,
             problem.bounds,
             start.balloon.length_mm,
@@ -178,9 +178,20 @@ impl<'p> ShapeResiduals<'p> {
         u
     }
 
-    /// The design at `u`: the space's patches, then the balloon (and the
-    /// patches' axial positions and lengths) scaled by the length factor,
-    /// `u`'s last coordinate when the length is free.
+    /// Whether a patch of the start is longer, shorter, wider or narrower
+    /// than the fabrication limits allow.
+    fn beyond_limits(&self) -> bool {
+        let b = self.problem.bounds;
+        self.start.patches.iter().any(|p| {
+            !(b.h_min_mm..=b.h_max_mm).contains(&p.h_mm)
+                || !(b.w_min_mm..=b.w_max_mm).contains(&p.w_mm)
+        })
+    }
+
+    /// The design at `u`: the space's patches, then the balloon and the
+    /// patches' axial positions scaled by the length factor, `u`'s last
+    /// coordinate when the length is free (the sizes are variables of their
+    /// own, within the fabrication limits).
     fn design_at(&self, u: &[f64]) -> Design {
         let mut design = Design {
             patches: self.space.patches(&u[..self.space.dimension()]),
@@ -189,7 +200,7 @@ impl<'p> ShapeResiduals<'p> {
         if self.problem.free_length {
             let factor =
                 1.0 + LENGTH_WINDOW * (2.0 * u[self.space.dimension()].clamp(0.0, 1.0) - 1.0);
-            design.stretch_length(factor);
+            design.stretch_positions(factor);
         }
         design
     }
@@ -204,7 +215,24 @@ impl<'p> ShapeResiduals<'p> {
         jacobian: Option<DMatrix<f64>>,
         on_progress: &mut dyn FnMut(usize, usize, &Simulation),
     ) -> Result<Refined, DesignRunError> {
-        let start = match Iterate::new(residuals, self.start_point(), simulation) {
+        let u = self.start_point();
+        let unrefined = |simulation| Refined {
+            design: self.start.clone(),
+            simulation,
+            summary: None,
+            jacobian: None,
+        };
+        // A start beyond a fabrication limit is brought within it first, for
+        // one solve of the budget.
+        let (simulation, spent) = match self.beyond_limits() {
+            false => (simulation, 0),
+            true if budget == 0 => return Ok(unrefined(simulation)),
+            true => match residuals.solve(&u, &simulation) {
+                Some(inside) => (inside, 1),
+                None => return Ok(unrefined(simulation)),
+            },
+        };
+        let start = match Iterate::new(residuals, u, simulation) {
             Ok(start) => start,
             Err(simulation) => {
                 return Ok(Refined {
@@ -220,9 +248,17 @@ impl<'p> ShapeResiduals<'p> {
             ..least_squares::Settings::default()
         };
         let jacobian = jacobian.map(|j| self.per_cube(j, true));
-        let solution =
-            least_squares::minimise(residuals, start, budget, jacobian, &settings, on_progress)
-                .map_err(|least_squares::Cancelled| DesignRunError::Cancelled)?;
+        let budget = budget - spent;
+        let mut on_progress = |i, e, s: &Simulation| on_progress(i, spent + e, s);
+        let solution = least_squares::minimise(
+            residuals,
+            start,
+            budget,
+            jacobian,
+            &settings,
+            &mut on_progress,
+        )
+        .map_err(|least_squares::Cancelled| DesignRunError::Cancelled)?;
         let counts = solution.counts;
         Ok(Refined {
             design: self.design_at(&solution.best.u),
@@ -232,7 +268,7 @@ impl<'p> ShapeResiduals<'p> {
                 iterations: counts.iterations,
                 jacobians: counts.jacobians,
                 differenced_jacobians: counts.differenced,
-                solves: counts.evaluations,
+                solves: spent + counts.evaluations,
                 variables: self.ranges.len(),
                 corrected_on_element_mm: None,
                 correction_solves: 0,
@@ -305,126 +341,4 @@ impl Residuals for ShapeResiduals<'_> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::fe::mesh::MeshSpec;
-    use crate::fe::simulate;
-    use crate::least_squares::jacobian::forward_differences;
-
-    /// The refine's forward-difference step in the unit cube.
-    const STEP: f64 = 1e-3;
-
-    /// The one-patch test scene on a uniform 2 mm mesh, with a target drawn
-    /// by the same patch turned further (14°) and longer (17 mm).
-    struct OnePatch {
-        design: Design,
-        model: SimulateOptions,
-        profiles: TargetProfiles,
-        bounds: VariableBounds,
-        cancel: AtomicBool,
-        caches: Caches,
-    }
-
-    impl OnePatch {
-        fn new() -> OnePatch {
-            let design = Design::one_patch_test_scene();
-            let model = SimulateOptions {
-                mesh: MeshSpec::uniform(2.0),
-                ..SimulateOptions::default()
-            };
-            let mut other = design.clone();
-            other.patches[0].theta_deg = 14.0;
-            other.patches[0].h_mm = 17.0;
-            let target = simulate(&other, &model).unwrap().centreline;
-            OnePatch {
-                design,
-                model,
-                profiles: TargetProfiles::new(&target, 72, &Default::default()),
-                bounds: VariableBounds::default(),
-                cancel: AtomicBool::new(false),
-                caches: Caches::default(),
-            }
-        }
-
-        fn problem(&self, free_length: bool) -> RefineProblem<'_> {
-            RefineProblem {
-                model: &self.model,
-                target: &self.profiles,
-                freedom: Freedom::default(),
-                bounds: &self.bounds,
-                free_length,
-                correction: None,
-                threads: 2,
-                cancel: &self.cancel,
-                caches: &self.caches,
-            }
-        }
-
-        /// The refine's problem around the scene's design, and its start
-        /// point evaluated from a cold solve.
-        fn start<'p>(
-            &self,
-            problem: &'p RefineProblem<'p>,
-        ) -> (ShapeResiduals<'p>, Iterate<Simulation>) {
-            let shape = ShapeResiduals::new(problem, self.design.clone()).unwrap();
-            let cold = simulate(&self.design, &self.model).unwrap();
-            let start = Iterate::new(&shape, shape.start_point(), cold)
-                .ok()
-                .unwrap();
-            (shape, start)
-        }
-    }
-
-    /// Forward differences at `STEP` against differences at half of it: in
-    /// the patch's length, width and angle the two agree to a few per mille
-    /// (the model is smooth there, and the solves' noise, ~1e-8 in |r| between
-    /// a warm and a cold solve, is far below the differences). In X and Y
-    /// they differ by 14 and 22 %: moving the patch across the mesh, the
-    /// response has kinks where its outline crosses mesh lines (measured along
-    /// X: the slope drops threefold within 0.002 of the unit cube). So the
-    /// refine's linear model is rougher in position, and a step is accepted
-    /// only if the shape error falls.
-    #[test]
-    fn jacobian_columns_agree_with_a_halved_step_where_the_model_is_smooth() {
-        let scene = OnePatch::new();
-        let problem = scene.problem(false);
-        let (shape, start) = scene.start(&problem);
-        let jacobian = forward_differences(&shape, &start, STEP, 2);
-        let mut disagreement = Vec::new();
-        for j in 0..start.u.len() {
-            let mut u = start.u.clone();
-            u[j] += 0.5 * STEP;
-            let half = start.evaluate(&shape, u).unwrap();
-            let column = (&half.residuals - &start.residuals) / (0.5 * STEP);
-            disagreement.push((&column - jacobian.column(j)).norm() / column.norm());
-        }
-        println!("|J_j(h) − J_j(h/2)| / |J_j(h/2)| for X, Y, H, W, Θ: {disagreement:.4?}");
-        assert!(
-            disagreement[2..].iter().all(|d| *d < 0.02),
-            "{disagreement:?}"
-        );
-        assert!(disagreement.iter().all(|d| *d < 0.5), "{disagreement:?}");
-    }
-
-    /// The linearised Jacobian (one factorisation of the tangent,
-    /// `fe::sensitivity`) against forward differences by solves at `STEP`,
-    /// on a one-patch balloon with a free length: every column within 5 %
-    /// (measured 0.04–3 %, the most in X and Y where the forward differences
-    /// cross mesh lines, as above).
-    #[test]
-    fn the_linearised_jacobian_agrees_with_forward_differences() {
-        let scene = OnePatch::new();
-        let problem = scene.problem(true);
-        let (shape, start) = scene.start(&problem);
-        let differences = forward_differences(&shape, &start, STEP, 2);
-        let linearised = shape.cheap_jacobian(&start, STEP).unwrap();
-        let disagreement: Vec<f64> = (0..differences.ncols())
-            .map(|j| {
-                let d = differences.column(j);
-                (d - linearised.column(j)).norm() / d.norm()
-            })
-            .collect();
-        println!("|J_lin − J_fd| / |J_fd| for X, Y, H, W, Θ, L: {disagreement:.4?}");
-        assert!(disagreement.iter().all(|d| *d < 0.05), "{disagreement:?}");
-    }
-}
+mod tests;
