@@ -132,26 +132,28 @@ impl VariableBounds {
     /// `design` with every patch's H and W clamped into these limits; none
     /// if they all are within them already.
     pub fn sizes_within(&self, design: &Design) -> Option<Design> {
-        let inside = |p: &Patch| {
-            (self.h_min_mm..=self.h_max_mm).contains(&p.h_mm)
-                && (self.w_min_mm..=self.w_max_mm).contains(&p.w_mm)
-        };
-        if design.patches.iter().all(inside) {
+        if design.patches.iter().all(|p| self.holds_size(p)) {
             return None;
         }
-        let patches = design
-            .patches
-            .iter()
-            .map(|p| Patch {
-                h_mm: p.h_mm.clamp(self.h_min_mm, self.h_max_mm),
-                w_mm: p.w_mm.clamp(self.w_min_mm, self.w_max_mm),
-                ..*p
-            })
-            .collect();
         Some(Design {
-            patches,
+            patches: design.patches.iter().map(|p| self.size_within(p)).collect(),
             ..design.clone()
         })
+    }
+
+    /// Whether `patch`'s H and W are within the fabrication limits.
+    pub fn holds_size(&self, patch: &Patch) -> bool {
+        (self.h_min_mm..=self.h_max_mm).contains(&patch.h_mm)
+            && (self.w_min_mm..=self.w_max_mm).contains(&patch.w_mm)
+    }
+
+    /// `patch` with its H and W clamped into the fabrication limits.
+    pub fn size_within(&self, patch: &Patch) -> Patch {
+        Patch {
+            h_mm: patch.h_mm.clamp(self.h_min_mm, self.h_max_mm),
+            w_mm: patch.w_mm.clamp(self.w_min_mm, self.w_max_mm),
+            ..*patch
+        }
     }
 }
 
@@ -219,14 +221,7 @@ impl DesignSpace {
         balloon_length: f64,
     ) -> Result<DesignSpace, VariableError> {
         bounds.validate()?;
-        let inside = seed
-            .iter()
-            .map(|p| Patch {
-                h_mm: p.h_mm.clamp(bounds.h_min_mm, bounds.h_max_mm),
-                w_mm: p.w_mm.clamp(bounds.w_min_mm, bounds.w_max_mm),
-                ..*p
-            })
-            .collect();
+        let inside = seed.iter().map(|p| bounds.size_within(p)).collect();
         DesignSpace::new(inside, freedom, bounds, balloon_length)
     }
 

@@ -178,16 +178,6 @@ impl<'p> ShapeResiduals<'p> {
         u
     }
 
-    /// Whether a patch of the start is longer, shorter, wider or narrower
-    /// than the fabrication limits allow.
-    fn beyond_limits(&self) -> bool {
-        let b = self.problem.bounds;
-        self.start.patches.iter().any(|p| {
-            !(b.h_min_mm..=b.h_max_mm).contains(&p.h_mm)
-                || !(b.w_min_mm..=b.w_max_mm).contains(&p.w_mm)
-        })
-    }
-
     /// The design at `u`: the space's patches, then the balloon and the
     /// patches' axial positions scaled by the length factor, `u`'s last
     /// coordinate when the length is free (the sizes are variables of their
@@ -224,7 +214,9 @@ impl<'p> ShapeResiduals<'p> {
         };
         // A start beyond a fabrication limit is brought within it first, for
         // one solve of the budget.
-        let (simulation, spent) = match self.beyond_limits() {
+        let bounds = self.problem.bounds;
+        let beyond = !self.start.patches.iter().all(|p| bounds.holds_size(p));
+        let (simulation, spent) = match beyond {
             false => (simulation, 0),
             true if budget == 0 => return Ok(unrefined(simulation)),
             true => match residuals.solve(&u, &simulation) {

@@ -20,11 +20,17 @@ impl RunStage for LengthCorrection {
         let ratio = run.setup.target.length() / simulation.inflated_length_mm;
         run.verified = Some(simulation);
         if (ratio - 1.0).abs() > LENGTH_TOLERANCE {
-            run.design.stretch_length(ratio);
             let bounds = &run.setup.settings.bounds;
-            for patch in &mut run.design.patches {
-                if (bounds.h_min_mm..=bounds.h_max_mm).contains(&(patch.h_mm / ratio)) {
-                    patch.h_mm = patch.h_mm.clamp(bounds.h_min_mm, bounds.h_max_mm);
+            let within: Vec<bool> = run
+                .design
+                .patches
+                .iter()
+                .map(|p| bounds.holds_size(p))
+                .collect();
+            run.design.stretch_length(ratio);
+            for (patch, within) in run.design.patches.iter_mut().zip(within) {
+                if within {
+                    *patch = bounds.size_within(patch);
                 }
             }
             let corrected = ctx
