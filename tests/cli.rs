@@ -445,9 +445,20 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
         "evaluations",
         "profiles",
         "at_limits",
+        "input",
+        "reach",
     ] {
         assert!(!report[key].is_null(), "{key} missing");
     }
+    // A curve the model made from a patch within the bounds is clean, and
+    // within reach of the model's own table.
+    assert_eq!(report["input"]["smoothing_mm"], 0.0, "{}", report["input"]);
+    assert_eq!(
+        report["reach"]["out_of_reach"].as_array().unwrap().len(),
+        0,
+        "{}",
+        report["reach"]["out_of_reach"]
+    );
     let cut = report["uninflated_length_to_cut_mm"].as_f64().unwrap();
     assert!(
         (cut - 100.0).abs() < 3.0,
@@ -511,6 +522,92 @@ fn design_rejects_bad_options_in_one_line() {
         ),
         "pressure_kpa",
     );
+}
+
+/// A helix round a 10 mm nozzle bends at a radius of 15 mm, tighter than
+/// any patch of the default bounds makes: the summary says where and by how
+/// much before it designs; the smoothing given is reported as given.
+#[test]
+fn design_reports_what_is_out_of_reach() {
+    let scratch = temp_dir("reach");
+    let curve = scratch.path().join("nozzle.csv");
+    let preset = patchwork(&["preset", "grasp", "diameter_mm=10"]);
+    std::fs::write(&curve, &preset.stdout).unwrap();
+    let curve = curve.to_string_lossy().to_string();
+    let out = scratch.path().join("out").to_string_lossy().to_string();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["design", &curve, "--out", &out, "--fidelity", "draft"];
+        args.extend_from_slice(&["--budget", "1", "--refine", "0", "--threads", "2"]);
+        args.extend_from_slice(extra);
+        patchwork(&args)
+    };
+    let output = run(&["--smooth-mm", "0.5"]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let summary = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        summary.contains("out of reach: s = ") && summary.contains("needs a bend radius of 15 mm"),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("smoothed with σ 0.5 mm (--smooth-mm)"),
+        "{summary}"
+    );
+    let report = json(&run(&["--json"]));
+    let span = &report["reach"]["out_of_reach"][0];
+    let needs = span["needs_bend_radius_mm"].as_f64().unwrap();
+    let tightest = report["reach"]["tightest_bend_radius_mm"].as_f64().unwrap();
+    assert!(
+        (needs - 15.0).abs() < 1.0 && tightest > 20.0,
+        "{span} {tightest}"
+    );
+    assert_eq!(report["input"]["automatic"], true);
+    assert_one_line_error(&run(&["--smooth-mm", "-1"]), "--smooth-mm");
+}
+
+/// An arc of radius 150 mm bends more gently than KSA marks: KSA's layout
+/// has no patch, the layout stage adds them, and design.json says which
+/// layouts were tried and which won.
+#[test]
+fn a_gentle_arc_gets_its_patches_from_the_layout_stage() {
+    let scratch = temp_dir("gentle");
+    let curve = scratch.path().join("arc.csv");
+    let preset = patchwork(&["preset", "arc", "radius_mm=150", "angle_deg=120"]);
+    std::fs::write(&curve, &preset.stdout).unwrap();
+    let (curve, out) = (curve.to_string_lossy(), scratch.path().join("out"));
+    let report = json(&patchwork(&[
+        "design",
+        &curve,
+        "--out",
+        &out.to_string_lossy(),
+        "--fidelity",
+        "draft",
+        "--budget",
+        "1",
+        "--refine",
+        "20",
+        "--threads",
+        "2",
+        "--json",
+    ]));
+    let layouts = report["layouts"].as_array().unwrap();
+    assert_eq!(layouts.len(), 2, "{layouts:?}");
+    assert_eq!(layouts[0]["patches"], 0);
+    assert_eq!(layouts[1]["chosen"], true, "{layouts:?}");
+    let (ksa, added) = (
+        layouts[0]["shape_error_percent"].as_f64().unwrap(),
+        layouts[1]["shape_error_percent"].as_f64().unwrap(),
+    );
+    assert!(added < ksa / 2.0, "{layouts:?}");
+    let patches = report["design"]["patches"].as_array().unwrap();
+    assert_eq!(
+        patches.len() as u64,
+        layouts[1]["patches"].as_u64().unwrap()
+    );
+    assert!((report["metrics"]["shape_error_percent"].as_f64().unwrap() - added).abs() < 0.01);
 }
 
 /// A 90° arc of radius 40 mm (the `arc` preset) written to `dir/arc.csv`

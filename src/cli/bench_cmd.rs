@@ -17,7 +17,8 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::Args;
 use patchwork_core::fe::mesh::MeshSpec;
-use patchwork_core::inverse::{Plan, UserSettings, assess, design};
+use patchwork_core::inverse::input::prepare;
+use patchwork_core::inverse::{Plan, Smoothing, UserSettings, assess, design};
 
 use super::bench_suite::{Suite, suite};
 use super::output::emit;
@@ -73,6 +74,8 @@ struct Row {
     patches: f64,
     /// Patch sizes or angles beyond a fabrication limit (the most over the runs).
     beyond_limits: f64,
+    /// The reach stage's verdict: "yes", or the stretches out of reach.
+    reach: String,
     failures: usize,
 }
 
@@ -108,6 +111,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         for setting in &settings {
             let mut samples = Vec::new();
             let mut failures = 0;
+            let mut reach = String::from("–");
             for seed in 1..=args.runs as u64 {
                 let settings = UserSettings {
                     fidelity: setting.fidelity,
@@ -126,8 +130,27 @@ pub fn run(args: BenchArgs) -> Result<()> {
                         let reference = if o.verified_on == REFERENCE_MESH {
                             o.metrics.shape_error_percent
                         } else {
-                            assess(target, &o.design, REFERENCE_MESH, plan.tuning())
+                            // Against the target the run aimed at (smoothed
+                            // as the run smoothed it).
+                            let (aimed, _) =
+                                prepare(target, Smoothing::Auto, plan.tuning().kappa_tol)?;
+                            assess(&aimed, &o.design, REFERENCE_MESH, plan.tuning())
                                 .map_or(f64::NAN, |m| m.shape_error_percent)
+                        };
+                        reach = match &o.reach {
+                            Some(r) if r.reachable() => "yes".into(),
+                            Some(r) => r
+                                .out_of_reach
+                                .iter()
+                                .map(|span| {
+                                    format!(
+                                        "no: s {:.0}–{:.0} mm needs r {:.0} mm",
+                                        span.s_start_mm, span.s_end_mm, span.needs_bend_radius_mm
+                                    )
+                                })
+                                .collect::<Vec<_>>()
+                                .join("; "),
+                            None => "–".into(),
                         };
                         samples.push([
                             wall_s,
@@ -158,6 +181,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 dtw_torsion: column(5),
                 patches: column(6),
                 beyond_limits: samples.iter().map(|s| s[7]).fold(0.0, f64::max),
+                reach,
                 failures,
             };
             eprintln!(
@@ -199,12 +223,12 @@ fn table(rows: &[Row], command: &str) -> String {
         "`{command}` — medians over the runs\n\n\
          Shape error on the run's own verification model, and of its design \
          re-simulated on the common reference model (uniform 0.5 mm).\n\n\
-         | curve | setting | wall s | evaluations | shape error % (own) | shape error % (reference) | DTW κ | DTW τ | patches | beyond limits | failed runs |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|\n"
+         | curve | setting | wall s | evaluations | shape error % (own) | shape error % (reference) | DTW κ | DTW τ | patches | beyond limits | within reach | failed runs |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n"
     );
     for r in rows {
         out.push_str(&format!(
-            "| {} | {} | {:.2} | {:.0} | {:.2} | {:.2} | {:.3} | {:.3} | {:.0} | {:.0} | {} |\n",
+            "| {} | {} | {:.2} | {:.0} | {:.2} | {:.2} | {:.3} | {:.3} | {:.0} | {:.0} | {} | {} |\n",
             r.curve,
             r.setting,
             r.wall_s,
@@ -215,6 +239,7 @@ fn table(rows: &[Row], command: &str) -> String {
             r.dtw_torsion,
             r.patches,
             r.beyond_limits,
+            r.reach,
             r.failures
         ));
     }

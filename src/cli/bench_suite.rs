@@ -39,6 +39,8 @@ pub struct Setting {
     /// Long bends as trains of patches within the bounds (off: KSA's one
     /// patch per bend).
     pub trains: bool,
+    /// Try patches on gentle bends after the refine (off: KSA's layout).
+    pub gentle_bends: bool,
     /// KSA's curvature tolerance (mm⁻¹) instead of the preset's.
     pub kappa_tol: Option<f64>,
 }
@@ -53,6 +55,7 @@ impl Setting {
             refine,
             correction: true,
             trains: true,
+            gentle_bends: true,
             kappa_tol: None,
         }
     }
@@ -69,6 +72,7 @@ impl Setting {
             refine_budget: Some(self.refine),
             correction: Some(self.correction),
             trains: Some(self.trains),
+            gentle_bends: Some(self.gentle_bends),
             kappa_tol: self.kappa_tol,
             ..TuningOverrides::default()
         }
@@ -223,6 +227,10 @@ fn any_curve() -> Result<(Targets, Vec<Setting>)> {
         Setting {
             trains: false,
             ..Setting::preset("draft without trains", Fidelity::Draft)
+        },
+        Setting {
+            gentle_bends: false,
+            ..Setting::preset("draft without gentle bends", Fidelity::Draft)
         },
         Setting {
             kappa_tol: Some(0.004),

@@ -11,12 +11,12 @@ use patchwork_core::design::Design;
 use patchwork_core::fabrication::design_files;
 use patchwork_core::inverse::{
     Caches, DesignCheckpoint, DesignProgress, DesignReport, Fidelity, ObjectiveOptions, Observer,
-    Plan, RefineSummary, SettingsError, Stage, Start, TuningOverrides, UserSettings,
-    design_resumable,
+    Plan, SettingsError, Stage, Start, TuningOverrides, UserSettings, design_resumable,
 };
 
+use super::design_summary::summary;
 use super::input::{CurveInput, read_text_argument};
-use super::output::{emit, emit_json, patch_table};
+use super::output::{emit, emit_json};
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
@@ -165,6 +165,7 @@ impl DesignArgs {
             bounds,
             freedom: Default::default(),
             fix_length: self.fix_length,
+            smoothing: self.input.smoothing(),
             threads: self.threads,
         };
         let objective = (self.shape_weight.is_some() || self.squared).then(|| ObjectiveOptions {
@@ -202,6 +203,7 @@ fn flag_error(error: SettingsError) -> anyhow::Error {
     let SettingsError { field, reason } = error;
     let flag = match field.as_str() {
         "budget" | "threads" | "initial_step" => field.replace('_', "-"),
+        "smoothing" => "smooth-mm".into(),
         "uniform_mesh_mm" | "search_mesh" | "verify_mesh" => "mesh-mm".into(),
         f if f.starts_with("objective.") => f.trim_start_matches("objective.").replace('_', "-"),
         f if f.starts_with("bounds.") => return anyhow::anyhow!("--bounds: {reason}"),
@@ -226,6 +228,7 @@ impl Observer for CliObserver<'_> {
         }
         let stage = match p.stage {
             Stage::Seed => "seed  ",
+            Stage::Reach => "reach ",
             Stage::Search => "search",
             Stage::Polish => "polish",
             Stage::Verify => "verify",
@@ -247,7 +250,7 @@ impl Observer for CliObserver<'_> {
 }
 
 pub fn run(args: DesignArgs) -> Result<()> {
-    let target = args.input.load()?;
+    let target = args.input.load_as_given()?;
     // Checked before the output folder is created: a bad option changes nothing.
     let plan = args.plan()?;
     std::fs::create_dir_all(&args.out)
@@ -304,74 +307,4 @@ fn write_files(dir: &std::path::Path, report: &DesignReport) -> Result<()> {
             .with_context(|| format!("cannot write {}", path.display()))?;
     }
     Ok(())
-}
-
-fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
-    let m = &r.metrics;
-    let mut s = format!(
-        "target {:.1} mm; inflated {:.1} mm; cut the balloon {:.1} mm long\n\
-         search model: objective {:.4} (KSA seed {:.4})\n\
-         verified:     shape error {:.2} mm ({:.2} % of length); objective {:.4}; DTW κ {:.4}, τ {:.4}\n\
-         {} evaluations in {:.1} s ({})\n",
-        r.target_length_mm,
-        r.inflated_length_mm,
-        r.uninflated_length_to_cut_mm,
-        r.search_objective,
-        r.seed_objective,
-        m.shape_error_mm,
-        m.shape_error_percent,
-        m.objective,
-        m.dtw_curvature,
-        m.dtw_torsion,
-        r.evaluations,
-        r.elapsed_s,
-        r.termination
-    );
-    s.push_str(&refine_line("refine:      ", r.refine.as_ref()));
-    s.push_str(&refine_line("final refine:", r.final_refine.as_ref()));
-    if let Some(why) = &r.final_refine_skipped {
-        s.push_str(&format!("final refine: not run: {why}\n"));
-    }
-    for hit in &r.at_limits {
-        let note = if hit.beyond {
-            "beyond: the range was widened to hold KSA's seed"
-        } else {
-            "pinned: relax it with --bounds if the fabrication allows"
-        };
-        s.push_str(&format!(
-            "limit:        P{} {} {:.2} at {} {} ({note})\n",
-            hit.patch, hit.field, hit.value, hit.bound, hit.limit
-        ));
-    }
-    s.push_str(&patch_table(&r.design.patches, |_| ""));
-    s.push_str(&format!(
-        "files in {}: design.json design.csv patches.dxf template.dxf template.svg profiles.svg\n",
-        dir.display()
-    ));
-    s
-}
-
-/// One line on a refine stage (empty when it did not run).
-fn refine_line(label: &str, refine: Option<&RefineSummary>) -> String {
-    match refine {
-        Some(refine) if refine.solves == 0 => {
-            format!("{label} none: one step needs 2 solves, a Jacobian and a trial (--refine)\n")
-        }
-        Some(refine) => format!(
-            "{label} shape error {:.2} % → {:.2} % in {} steps ({} solves, {} Jacobians{})\n",
-            refine.shape_error_before_percent,
-            refine.shape_error_after_percent,
-            refine.iterations,
-            refine.solves,
-            refine.jacobians,
-            match refine.differenced_jacobians {
-                0 => String::new(),
-                d => format!(
-                    ", {d} of them by forward differences, {} solves each",
-                    refine.variables
-                ),
-            }
-        ),
-        None => String::new(),
-    }
 }

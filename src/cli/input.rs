@@ -6,6 +6,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use clap::Args;
 use patchwork_core::curve::{Curve, Units, read_curve};
+use patchwork_core::inverse::Smoothing;
 
 /// Options shared by every command that reads a target curve.
 #[derive(Args)]
@@ -16,10 +17,11 @@ pub struct CurveInput {
     /// Units of the file's coordinates (JSON's own `units` field wins).
     #[arg(long, default_value = "mm", value_parser = parse_units)]
     pub units: Units,
-    /// Gaussian smoothing along arc length, standard deviation in mm (0 = off).
-    /// For hand-drawn curves, about ten point spacings.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub smooth_mm: f64,
+    /// Gaussian smoothing along arc length, σ in mm (0: off). `design`
+    /// chooses it from the noise it finds on the points when not given;
+    /// the other commands then take the curve as given.
+    #[arg(long, allow_negative_numbers = true)]
+    pub smooth_mm: Option<f64>,
 }
 
 fn parse_units(text: &str) -> Result<Units, String> {
@@ -41,9 +43,21 @@ pub fn read_text_argument(name: &str) -> Result<String> {
 }
 
 impl CurveInput {
+    /// The curve, smoothed by `--smooth-mm` when given.
     pub fn load(&self) -> Result<Curve> {
+        let curve = self.load_as_given()?;
+        Ok(curve.smoothed(self.smooth_mm.unwrap_or(0.0))?)
+    }
+
+    /// The curve as the file gives it.
+    pub fn load_as_given(&self) -> Result<Curve> {
         let text = read_text_argument(&self.file)?;
-        let curve = read_curve(&text, self.units).with_context(|| self.file.clone())?;
-        Ok(curve.smoothed(self.smooth_mm)?)
+        read_curve(&text, self.units).with_context(|| self.file.clone())
+    }
+
+    /// How `design` smooths it: by `--smooth-mm` when given, else from the
+    /// noise found on it.
+    pub fn smoothing(&self) -> Smoothing {
+        self.smooth_mm.map_or(Smoothing::Auto, Smoothing::Sigma)
     }
 }

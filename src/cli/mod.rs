@@ -4,6 +4,7 @@ mod bench_cmd;
 mod bench_suite;
 mod curve_cmd;
 pub(crate) mod design_cmd;
+mod design_summary;
 mod input;
 mod ksa_cmd;
 mod output;

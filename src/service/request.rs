@@ -4,8 +4,8 @@
 use patchwork_core::curve::{Curve, Preset, Units, points_from_json, read_text};
 use patchwork_core::design::Design;
 use patchwork_core::inverse::{
-    Fidelity, Freedom, ObjectiveOptions, Plan, SettingsError, Start, TuningOverrides, UserSettings,
-    VariableBounds,
+    Fidelity, Freedom, ObjectiveOptions, Plan, SettingsError, Smoothing, Start, TuningOverrides,
+    UserSettings, VariableBounds,
 };
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -70,6 +70,10 @@ pub struct JobOptions {
     /// Where CMA-ES starts (default: KSA's patches).
     #[serde(default)]
     pub start: Start,
+    /// Gaussian smoothing of the target along arc length, σ in mm (0: the
+    /// curve as given); absent: chosen from the noise found on its points.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smooth_mm: Option<f64>,
 }
 
 /// `POST /v1/jobs`.
@@ -132,6 +136,10 @@ impl JobRequest {
             bounds: self.bounds.unwrap_or_default(),
             freedom: self.freedom.unwrap_or_default(),
             fix_length: self.options.fix_length,
+            smoothing: self
+                .options
+                .smooth_mm
+                .map_or(Smoothing::Auto, Smoothing::Sigma),
             // One job per worker, one worker per core.
             threads: 1,
         };
@@ -156,6 +164,7 @@ fn problem_of(error: SettingsError) -> Problem {
     let field = match field.as_str() {
         "initial_step" => "options.initial_step".to_string(),
         "budget" => "options.budget".to_string(),
+        "smoothing" => "options.smooth_mm".to_string(),
         _ => field,
     };
     Problem::invalid(field, reason)

@@ -154,6 +154,10 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "options.start",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "options": {"smooth_mm": -1}}),
+            "options.smooth_mm",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "design": {"pressure_kpa": -5}}),
             "design.pressure_kpa",
         ),

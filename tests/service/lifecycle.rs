@@ -28,7 +28,7 @@ async fn a_job_runs_to_done_and_its_files_download() {
     assert_eq!(kinds.last(), Some(&"done"), "{events:?}");
     assert!(kinds.contains(&"progress"));
     // Draft refines after verifying: the last stage is the refine.
-    for stage in ["queued", "seed", "search", "verify", "refine"] {
+    for stage in ["queued", "seed", "reach", "search", "verify", "refine"] {
         assert!(
             events
                 .iter()
@@ -68,6 +68,9 @@ async fn a_job_runs_to_done_and_its_files_download() {
     let patches = result["design"]["patches"].as_array().unwrap();
     assert_eq!(patches.len(), 2, "{patches:?}");
     assert!(patches.iter().all(|p| p["h_mm"].as_f64().unwrap() <= 30.0));
+    // A 40 mm arc is within reach of the default bounds, and clean.
+    assert_eq!(result["reach"]["out_of_reach"], json!([]));
+    assert_eq!(result["input"]["smoothing_mm"], 0.0);
 
     for (name, content_type) in [
         ("patches.dxf", "application/dxf"),

@@ -6,6 +6,7 @@ mod differential;
 mod dtw;
 mod error;
 mod frames;
+mod noise;
 mod polyline;
 pub mod presets;
 mod profile;

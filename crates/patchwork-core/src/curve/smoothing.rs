@@ -41,6 +41,33 @@ impl Curve {
         self.smoothed_along(sigma_mm, 0)
     }
 
+    /// [`Curve::smoothed`] with its bias removed by twicing (Tukey): the
+    /// residual of the smoothing, smoothed the same way, is added back.
+    /// The effective kernel 2G − G∗G has no second moment, so a bend of
+    /// curvature κ is no longer drawn in by a fraction κ²σ²/2 of its radius
+    /// (0.3 mm on a 40 mm radius at σ = 5 mm) but by O(κ⁴σ⁴); noise is
+    /// passed a little more.
+    pub fn smoothed_twice(&self, sigma_mm: f64) -> Result<Curve, CurveError> {
+        let once = self.smoothed(sigma_mm)?;
+        if sigma_mm == 0.0 {
+            return Ok(once);
+        }
+        let residual: Vec<Point> = self
+            .points()
+            .iter()
+            .zip(once.points())
+            .map(|(raw, smooth)| raw - smooth)
+            .collect();
+        let correction = convolve(&residual, once.arc_length(), sigma_mm);
+        Curve::from_points(
+            once.points()
+                .iter()
+                .zip(&correction)
+                .map(|(p, c)| p + c)
+                .collect(),
+        )
+    }
+
     /// The curve with seeded Gaussian noise, of standard deviation
     /// `fraction` of its length, added to every coordinate of every point:
     /// the jitter smoothing is for, reproducibly (the bench's

@@ -1,6 +1,7 @@
 //! Why a design run or its settings failed.
 
 use super::variables::VariableError;
+use crate::curve::CurveError;
 use crate::fe::SimulateError;
 use crate::ksa::KsaError;
 
@@ -34,12 +35,16 @@ pub enum DesignRunError {
     NoTubeState { pressure_kpa: f64 },
     #[error("the seed design could not be simulated: {0}")]
     Seed(SimulateError),
+    #[error("no patch of the bounds could be simulated for the reach table: {0}")]
+    Reach(SimulateError),
     #[error("the best design failed verification on the fine mesh: {0}")]
     Verify(SimulateError),
     /// A stage found the run without what an earlier stage should have left
     /// (a plan the resolver does not build).
     #[error("malformed plan: {0}")]
     Plan(String),
+    #[error("the target could not be prepared: {0}")]
+    Input(CurveError),
     #[error("cancelled")]
     Cancelled,
 }

@@ -9,6 +9,7 @@ use super::assess::verified;
 use super::caches::Caches;
 use super::checkpoint::DesignCheckpoint;
 use super::errors::DesignRunError;
+use super::input::prepare;
 use super::limits::at_limits;
 use super::outcome::{DesignOutcome, DesignProgress};
 use super::plan::Plan;
@@ -42,7 +43,9 @@ pub fn design_resumable(
 ) -> Result<DesignOutcome, DesignRunError> {
     let earlier_s = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
     let mut ctx = Context::new(cancel, caches, observer, earlier_s);
-    let setup = Setup::new(target, plan.settings(), plan.tuning());
+    let (target, input) = prepare(target, plan.settings().smoothing, plan.tuning().kappa_tol)
+        .map_err(DesignRunError::Input)?;
+    let setup = Setup::new(&target, input, plan.settings(), plan.tuning());
     let mut run = plan.seed().run(setup, resume, &mut ctx)?;
     for stage in plan.stages() {
         stage.stage().run(&mut run, &mut ctx)?;
@@ -80,6 +83,9 @@ fn outcome(mut run: Run<'_>, ctx: &Context<'_>) -> Result<DesignOutcome, DesignR
         final_refine: run.final_refine,
         final_refine_skipped: run.final_refine_skipped,
         verified_on: run.verified_on,
+        input: run.setup.input,
+        reach: run.reach,
+        layouts: run.layouts,
         elapsed: Duration::from_secs_f64(ctx.elapsed_s()),
     })
 }

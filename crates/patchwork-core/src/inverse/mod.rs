@@ -4,7 +4,7 @@
 //! (`tuning.rs`), and run by the executor (`executor.rs`):
 //!
 //! ```text
-//! seed → search → polish → verify → length → refine (± correction) → final refine
+//! seed → reach → search → polish → verify → length → refine (± correction) → final refine
 //! ```
 //!
 //! Each stage is a small type in `stages/`. The numerical pieces they use:
@@ -21,11 +21,14 @@ mod errors;
 mod evaluation_cache;
 mod executor;
 mod incumbent;
+pub mod input;
+pub mod layout;
 pub mod limits;
 pub mod objective;
 mod outcome;
 mod plan;
 mod presets;
+pub mod reach;
 mod refine;
 pub mod report;
 mod run;
@@ -40,6 +43,7 @@ pub use checkpoint::DesignCheckpoint;
 pub use errors::{DesignRunError, SettingsError};
 pub use evaluation_cache::{CacheCounts, EvaluationCache};
 pub use executor::{design, design_resumable};
+pub use input::{InputReport, Smoothing};
 pub use limits::AtLimit;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use outcome::{

@@ -4,7 +4,10 @@ use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
 
+use super::input::InputReport;
+use super::layout::LayoutTrial;
 use super::limits::AtLimit;
+use super::reach::ReachReport;
 use crate::cmaes::Termination;
 use crate::design::Design;
 use crate::fe::Simulation;
@@ -15,6 +18,8 @@ use crate::fe::mesh::MeshSpec;
 #[serde(rename_all = "snake_case")]
 pub enum Stage {
     Seed,
+    /// What one patch makes within the bounds, against the target.
+    Reach,
     Search,
     /// The coarse-to-fine polish on the verification model.
     Polish,
@@ -149,5 +154,13 @@ pub struct DesignOutcome {
     /// Patch sizes and angles on (or beyond) a fabrication limit of the
     /// bounds: the target may want what the bounds forbid.
     pub at_limits: Vec<AtLimit>,
+    /// What was done to the target before the design (its smoothing).
+    pub input: InputReport,
+    /// Where the target is beyond what a patch can make; none when the plan
+    /// had no reach stage.
+    pub reach: Option<ReachReport>,
+    /// The layouts tried after the refine and what each reached; empty when
+    /// the plan tried none.
+    pub layouts: Vec<LayoutTrial>,
     pub elapsed: Duration,
 }

@@ -6,46 +6,55 @@
 //! A plan always reads, with the stages its tuning leaves out skipped:
 //!
 //! ```text
-//! seed → search → polish → verify → length → refine (± correction) → final refine
+//! seed → reach → search → polish → verify → length → refine (± correction)
+//!      → layout (a finer layout, refined alike) → final refine
 //! ```
 
 use super::errors::SettingsError;
+use super::input::Smoothing;
 use super::settings::UserSettings;
 use super::stages::{
-    FinalRefineStage, LengthCorrection, Polish, Refine, RunStage, Search, Seed, Verify,
+    FinalRefineStage, Layout, LengthCorrection, Polish, Reach, Refine, RunStage, Search, Seed,
+    Verify,
 };
 use super::tuning::{Tuning, TuningOverrides};
 
 /// One stage after the seed, with its own budget.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PlannedStage {
+    Reach(Reach),
     Search(Search),
     Polish(Polish),
     Verify(Verify),
     Length(LengthCorrection),
     Refine(Refine),
+    Layout(Layout),
     FinalRefine(FinalRefineStage),
 }
 
 impl PlannedStage {
     pub fn name(&self) -> &'static str {
         match self {
+            PlannedStage::Reach(_) => "reach",
             PlannedStage::Search(_) => "search",
             PlannedStage::Polish(_) => "polish",
             PlannedStage::Verify(_) => "verify",
             PlannedStage::Length(_) => "length",
             PlannedStage::Refine(_) => "refine",
+            PlannedStage::Layout(_) => "layout",
             PlannedStage::FinalRefine(_) => "final refine",
         }
     }
 
     pub(super) fn stage(&self) -> &dyn RunStage {
         match self {
+            PlannedStage::Reach(stage) => stage,
             PlannedStage::Search(stage) => stage,
             PlannedStage::Polish(stage) => stage,
             PlannedStage::Verify(stage) => stage,
             PlannedStage::Length(stage) => stage,
             PlannedStage::Refine(stage) => stage,
+            PlannedStage::Layout(stage) => stage,
             PlannedStage::FinalRefine(stage) => stage,
         }
     }
@@ -127,7 +136,7 @@ impl Plan {
 /// verification model spends at most the final refine's staging solves
 /// when there is one, and the final refine the rest.
 fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<PlannedStage> {
-    let mut stages = Vec::new();
+    let mut stages = vec![PlannedStage::Reach(Reach)];
     let budget = settings.budget.unwrap_or(tuning.search_budget);
     if budget > 1 {
         stages.push(PlannedStage::Search(Search {
@@ -150,10 +159,14 @@ fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<PlannedStage> {
         None => tuning.refine_budget,
     };
     if refine_solves > 0 {
-        stages.push(PlannedStage::Refine(Refine {
+        let refine = Refine {
             solves: refine_solves,
             correction: tuning.correction_mesh,
-        }));
+        };
+        stages.push(PlannedStage::Refine(refine));
+        if tuning.gentle_bends {
+            stages.push(PlannedStage::Layout(Layout { refine }));
+        }
     }
     if let Some(refine) = tuning.final_refine {
         stages.push(PlannedStage::FinalRefine(FinalRefineStage {
@@ -187,6 +200,14 @@ fn check(settings: &UserSettings, tuning: &Tuning) -> Result<(), SettingsError> 
     .map_err(|e| SettingsError::new(format!("design.{}", e.field), e.reason))?;
     if settings.budget == Some(0) {
         return Err(SettingsError::new("budget", "must be at least 1"));
+    }
+    if let Smoothing::Sigma(sigma) = settings.smoothing
+        && !(sigma.is_finite() && sigma >= 0.0)
+    {
+        return Err(SettingsError::new(
+            "smoothing",
+            format!("must be a non-negative number of millimetres, got {sigma}"),
+        ));
     }
     if settings.threads == 0 {
         return Err(SettingsError::new("threads", "must be at least 1"));

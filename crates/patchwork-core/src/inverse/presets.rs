@@ -169,6 +169,7 @@ impl Fidelity {
                 newton: NewtonOptions::default(),
             }),
             trains: true,
+            gentle_bends: true,
             ..Tuning::default()
         }
     }

@@ -3,8 +3,11 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::input::InputReport;
+use super::layout::LayoutTrial;
 use super::limits::AtLimit;
 use super::outcome::{DesignOutcome, Metrics, Profiles, RefineSummary, SearchEnd};
+use super::reach::ReachReport;
 use crate::design::Design;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -44,6 +47,18 @@ pub struct DesignReport {
     /// Patch sizes and angles on (or beyond) a fabrication limit.
     #[serde(default)]
     pub at_limits: Vec<AtLimit>,
+    /// What was done to the target before the design: the noise found, the
+    /// smoothing applied, whether it is planar.
+    #[serde(default)]
+    pub input: InputReport,
+    /// What one patch makes within the bounds, and where the target asks
+    /// for more (empty `out_of_reach`: all of it is within reach).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reach: Option<ReachReport>,
+    /// The layouts tried after the refine, what each reached, which was
+    /// chosen; empty when none was tried.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub layouts: Vec<LayoutTrial>,
 }
 
 impl DesignReport {
@@ -73,6 +88,9 @@ impl DesignReport {
             seed,
             profiles: outcome.profiles.clone(),
             at_limits: outcome.at_limits.clone(),
+            input: outcome.input,
+            reach: outcome.reach.clone(),
+            layouts: outcome.layouts.clone(),
         }
     }
 }

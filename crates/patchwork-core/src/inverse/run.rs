@@ -10,8 +10,11 @@ use nalgebra::DMatrix;
 use super::caches::Caches;
 use super::checkpoint::DesignCheckpoint;
 use super::errors::DesignRunError;
+use super::input::InputReport;
+use super::layout::LayoutTrial;
 use super::objective::TargetProfiles;
 use super::outcome::{DesignProgress, RefineSummary, SearchEnd, Stage};
+use super::reach::ReachReport;
 use super::settings::UserSettings;
 use super::tuning::Tuning;
 use super::variables::{DesignSpace, VariableBounds};
@@ -112,7 +115,10 @@ impl<'a> Context<'a> {
 /// What a run knows before its seed: the target, the settings and the
 /// models they define.
 pub struct Setup<'a> {
+    /// The target as prepared for the design (smoothed).
     pub target: &'a Curve,
+    /// What was done to the target as given.
+    pub input: InputReport,
     pub settings: &'a UserSettings,
     pub tuning: &'a Tuning,
     pub profiles: TargetProfiles,
@@ -121,9 +127,15 @@ pub struct Setup<'a> {
 }
 
 impl<'a> Setup<'a> {
-    pub fn new(target: &'a Curve, settings: &'a UserSettings, tuning: &'a Tuning) -> Setup<'a> {
+    pub fn new(
+        target: &'a Curve,
+        input: InputReport,
+        settings: &'a UserSettings,
+        tuning: &'a Tuning,
+    ) -> Setup<'a> {
         Setup {
             target,
+            input,
             settings,
             tuning,
             profiles: TargetProfiles::new(target, tuning.rings, &tuning.objective),
@@ -162,6 +174,10 @@ pub struct Run<'a> {
     pub jacobian: Option<DMatrix<f64>>,
     pub final_refine: Option<RefineSummary>,
     pub final_refine_skipped: Option<String>,
+    /// The reach stage's report, once it ran.
+    pub reach: Option<ReachReport>,
+    /// The layouts the layout stage tried (none when it did not run).
+    pub layouts: Vec<LayoutTrial>,
 }
 
 impl<'a> Run<'a> {
@@ -187,6 +203,8 @@ impl<'a> Run<'a> {
             jacobian: None,
             final_refine: None,
             final_refine_skipped: None,
+            reach: None,
+            layouts: Vec::new(),
         }
     }
 

@@ -4,6 +4,7 @@
 //! threads. Everything else is expert tuning (`tuning.rs`), fixed by the
 //! fidelity's preset (`presets.rs`).
 
+use super::input::Smoothing;
 use super::presets::Fidelity;
 use super::variables::{Freedom, VariableBounds};
 use crate::design::Design;
@@ -23,6 +24,9 @@ pub struct UserSettings {
     /// Keep `base.balloon.length_mm`; otherwise the length is chosen so the
     /// inflated balloon is as long as the target.
     pub fix_length: bool,
+    /// How the target is smoothed before the design (default: from the
+    /// noise found on it).
+    pub smoothing: Smoothing,
     /// Threads evaluating a search generation or a Jacobian's columns.
     pub threads: usize,
 }
@@ -37,6 +41,7 @@ impl Default for UserSettings {
             bounds: VariableBounds::default(),
             freedom: Freedom::default(),
             fix_length: false,
+            smoothing: Smoothing::Auto,
             threads: 1,
         }
     }

@@ -46,6 +46,10 @@ pub struct Tuning {
     /// (`h_max_mm`) becomes a train of patches within it; off: one patch
     /// per run however long (the authors' KSA).
     pub trains: bool,
+    /// After the refine, try the layout with patches added where the
+    /// target bends more gently than `kappa_tol` (`layout.rs`), refined
+    /// like the design, and keep it if its shape error is lower.
+    pub gentle_bends: bool,
     /// Evaluations of a CMA-ES polish on the verification model after the
     /// search (0 or 1: none). Not checkpointed: a resumed run repeats it.
     pub polish_budget: usize,
@@ -77,6 +81,7 @@ impl Default for Tuning {
             merge_mm: 20.0,
             width_mm: 1.5,
             trains: false,
+            gentle_bends: false,
             polish_budget: 0,
             refine_budget: 0,
             correction_mesh: None,
@@ -160,6 +165,8 @@ pub struct TuningOverrides {
     pub final_refine: Option<bool>,
     /// Whether long KSA runs become trains of patches within the bounds.
     pub trains: Option<bool>,
+    /// Whether the layout with patches on gentle bends is tried.
+    pub gentle_bends: Option<bool>,
     /// KSA's curvature tolerance (mm⁻¹): bends gentler than this get no patch.
     pub kappa_tol: Option<f64>,
 }
@@ -186,6 +193,7 @@ impl TuningOverrides {
         tuning.warm_starts = self.warm_starts.unwrap_or(tuning.warm_starts);
         tuning.objective = self.objective.unwrap_or(tuning.objective);
         tuning.trains = self.trains.unwrap_or(tuning.trains);
+        tuning.gentle_bends = self.gentle_bends.unwrap_or(tuning.gentle_bends);
         tuning.kappa_tol = self.kappa_tol.unwrap_or(tuning.kappa_tol);
         if self.correction == Some(false) {
             tuning.correction_mesh = None;

@@ -5,16 +5,20 @@
 //! `plan::PlannedStage`, and a line in `Plan::with_tuning` where it goes.
 
 mod final_refine;
+mod layout;
 mod length;
 mod polish;
+mod reach;
 mod refine;
 mod search;
 mod seed;
 mod verify;
 
 pub use final_refine::FinalRefineStage;
+pub use layout::Layout;
 pub use length::LengthCorrection;
 pub use polish::Polish;
+pub use reach::Reach;
 pub use refine::Refine;
 pub use search::Search;
 pub use seed::Seed;

@@ -12,6 +12,7 @@ use super::super::outcome::{RefineSummary, Stage};
 use super::super::refine::{RefineProblem, Refined};
 use super::super::run::{Context, Run};
 use super::RunStage;
+use crate::design::Design;
 use crate::fe::Simulation;
 use crate::fe::mesh::MeshSpec;
 
@@ -28,25 +29,48 @@ impl RunStage for Refine {
         if run.space.dimension() == 0 || self.solves == 0 {
             return Ok(());
         }
-        let mut simulation = run.take_verified("refine")?;
-        // A design beyond a fabrication limit (KSA's one long patch, without
-        // trains) is brought within the limits first, so that every design
-        // the refine compares, its start included, is one that can be made.
-        if let Some(inside) = run.setup.settings.bounds.sizes_within(&run.design) {
+        let simulation = run.take_verified("refine")?;
+        let design = run.design.clone();
+        let (refined, solves) = self.refine_from(run, ctx, design, simulation)?;
+        let verified_on = self.verified_on(run, &refined);
+        run.verified_on = verified_on;
+        run.design = refined.design;
+        run.verified = Some(refined.simulation);
+        run.jacobian = refined.jacobian;
+        run.refine = refined.summary;
+        run.state.evaluations += solves;
+        Ok(())
+    }
+}
+
+impl Refine {
+    /// The refine from `design` (simulated on the verification model as
+    /// `simulation`), and the solves it spent. A design beyond a
+    /// fabrication limit (KSA's one long patch, without trains) is brought
+    /// within the limits first, so that every design the refine compares,
+    /// its start included, is one that can be made.
+    pub(super) fn refine_from(
+        &self,
+        run: &Run<'_>,
+        ctx: &mut Context<'_>,
+        mut design: Design,
+        mut simulation: Simulation,
+    ) -> Result<(Refined, usize), DesignRunError> {
+        let mut spent = 0;
+        if let Some(inside) = run.setup.settings.bounds.sizes_within(&design) {
             let model = &run.setup.verify_model;
             if let Ok(solved) = ctx.caches.simulate_from(&inside, model, Some(&simulation)) {
-                (run.design, simulation) = (inside, solved);
-                run.state.evaluations += 1;
+                (design, simulation) = (inside, solved);
+                spent += 1;
             }
         }
         let problem = refine_problem(run, ctx.cancel, ctx.caches);
-        let spent = run.state.evaluations;
+        let before = run.state.evaluations + spent;
         let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);
         let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
             let best = profiles.objective(&simulation.centreline, objective);
-            ctx.report(Stage::Refine, iteration, spent + evaluations, best, 0.0)
+            ctx.report(Stage::Refine, iteration, before + evaluations, best, 0.0)
         };
-        let design = run.design.clone();
         let refined = match self.correction {
             Some(mesh) => refine_corrected(
                 &problem,
@@ -58,29 +82,23 @@ impl RunStage for Refine {
             )?,
             None => problem.refine(design, simulation, self.solves, None, &mut on_progress)?,
         };
-        let Refined {
-            design,
-            simulation,
-            summary,
-            jacobian,
-        } = refined;
-        // A corrected refine verifies on its finer model.
-        if let (
-            Some(mesh),
-            Some(RefineSummary {
-                corrected_on_element_mm: Some(_),
-                ..
-            }),
-        ) = (self.correction, summary)
-        {
-            run.verified_on = mesh;
+        let solves = spent + refined.summary.map_or(0, |s| s.solves);
+        Ok((refined, solves))
+    }
+
+    /// The mesh `refined`'s simulation is on: the correction's when the
+    /// refine ran corrected (it verifies there), else the run's.
+    pub(super) fn verified_on(&self, run: &Run<'_>, refined: &Refined) -> MeshSpec {
+        match (self.correction, refined.summary) {
+            (
+                Some(mesh),
+                Some(RefineSummary {
+                    corrected_on_element_mm: Some(_),
+                    ..
+                }),
+            ) => mesh,
+            _ => run.verified_on,
         }
-        run.design = design;
-        run.verified = Some(simulation);
-        run.jacobian = jacobian;
-        run.refine = summary;
-        run.state.evaluations += summary.map_or(0, |s| s.solves);
-        Ok(())
     }
 }
 

@@ -191,17 +191,24 @@ fn ksa_seed(
     length: f64,
     setup: &Setup<'_>,
 ) -> Result<Vec<Patch>, DesignRunError> {
-    let tuning = setup.tuning;
-    let max_patch_mm = tuning.trains.then_some(setup.settings.bounds.h_max_mm);
     let params = KsaParams {
-        max_patch_mm,
         l0_mm: length,
         r0_mm: base.balloon.radius_mm,
+        stretch: Stretch::Fixed(target.length() / length),
+        ..ksa_params(setup)
+    };
+    Ok(ksa(target, &params).map_err(DesignRunError::Ksa)?.patches)
+}
+
+/// The run's KSA settings: its tolerance, merge distance, width and trains
+/// (the balloon's length and radius left at KSA's defaults).
+pub(super) fn ksa_params(setup: &Setup<'_>) -> KsaParams {
+    let tuning = setup.tuning;
+    KsaParams {
+        max_patch_mm: tuning.trains.then_some(setup.settings.bounds.h_max_mm),
         kappa_tol: tuning.kappa_tol,
         merge_mm: tuning.merge_mm,
         width_mm: tuning.width_mm,
-        stretch: Stretch::Fixed(target.length() / length),
         ..KsaParams::default()
-    };
-    Ok(ksa(target, &params).map_err(DesignRunError::Ksa)?.patches)
+    }
 }

@@ -1,0 +1,143 @@
+//! The target as the design sees it: drawing noise found and smoothed away
+//! (or the user's smoothing), and whether it lies in a plane.
+//!
+//! Automatic smoothing estimates the noise on the samples
+//! ([`Curve::noise_estimate`]) and, when it is above `NOISE_FLOOR_MM`,
+//! smooths with the σ that brings the curvature noise down to a fifth of
+//! KSA's curvature tolerance ([`Curve::smoothing_for`]): what is left
+//! cannot mark a sample for a patch on its own.
+
+use serde::{Deserialize, Serialize};
+
+use crate::curve::{Curve, CurveError, Point};
+
+/// Noise below this (mm per coordinate) is left alone: far below any
+/// cutting tolerance, and the rounding of coordinates written to 0.01 mm.
+const NOISE_FLOOR_MM: f64 = 0.01;
+
+/// The largest automatic smoothing (mm): beyond it the curve's own bends
+/// would lose more than the noise.
+const MAX_AUTO_SMOOTHING_MM: f64 = 8.0;
+
+/// A curve whose points lie within this fraction of its length (RMS) of
+/// one plane is planar.
+const PLANAR_TOLERANCE: f64 = 1e-3;
+
+/// How the target is smoothed before the design.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Smoothing {
+    /// Found from the noise on the samples.
+    #[default]
+    Auto,
+    /// A Gaussian of this σ along arc length (mm); 0 leaves the curve as
+    /// given.
+    Sigma(f64),
+}
+
+/// What was done to the target before the design.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct InputReport {
+    /// The noise found on the samples (mm per coordinate, standard
+    /// deviation).
+    pub noise_mm: f64,
+    /// The σ of the Gaussian smoothing applied (mm); 0: none.
+    pub smoothing_mm: f64,
+    /// Whether the smoothing was chosen from the noise (or given).
+    pub automatic: bool,
+    /// Whether the target lies in a plane (within 0.1 % of its length, or
+    /// the noise found, RMS).
+    pub planar: bool,
+}
+
+/// The target the design aims at, and what was done to get it.
+pub fn prepare(
+    target: &Curve,
+    smoothing: Smoothing,
+    kappa_tol: f64,
+) -> Result<(Curve, InputReport), CurveError> {
+    let noise = target.noise_estimate();
+    let (sigma, automatic) = match smoothing {
+        Smoothing::Sigma(sigma) => (sigma, false),
+        Smoothing::Auto if noise < NOISE_FLOOR_MM => (0.0, true),
+        Smoothing::Auto => (
+            target
+                .smoothing_for(noise, kappa_tol / 5.0)
+                .min(MAX_AUTO_SMOOTHING_MM),
+            true,
+        ),
+    };
+    let prepared = match sigma > 0.0 {
+        true => with_ends_fitted(target, sigma)?.smoothed_twice(sigma)?,
+        false => target.clone(),
+    };
+    let report = InputReport {
+        noise_mm: noise,
+        smoothing_mm: sigma,
+        automatic,
+        planar: is_planar(&prepared, noise),
+    };
+    Ok((prepared, report))
+}
+
+/// The curve with each end point replaced by a quadratic fitted, in arc
+/// length, to the points within 2σ of that end: the smoothing keeps the
+/// end points and reflects the curve about them, so a noisy end point
+/// would bend the smoothed curve for a few σ.
+fn with_ends_fitted(curve: &Curve, sigma: f64) -> Result<Curve, CurveError> {
+    let mut points = curve.points().to_vec();
+    let s = curve.arc_length();
+    let n = points.len();
+    let near_start: Vec<usize> = (0..n).take_while(|&i| s[i] <= 2.0 * sigma).collect();
+    let near_end: Vec<usize> = (0..n)
+        .rev()
+        .take_while(|&i| s[n - 1] - s[i] <= 2.0 * sigma)
+        .collect();
+    let fit = |indices: &[usize], at: f64| quadratic_at(indices, s, curve.points(), at);
+    if let Some(p) = fit(&near_start, 0.0) {
+        points[0] = p;
+    }
+    if let Some(p) = fit(&near_end, s[n - 1]) {
+        points[n - 1] = p;
+    }
+    Curve::from_points(points)
+}
+
+/// The least-squares quadratic through `points[indices]` against arc
+/// length `s`, at `at`; none with fewer than six points.
+fn quadratic_at(indices: &[usize], s: &[f64], points: &[Point], at: f64) -> Option<Point> {
+    if indices.len() < 6 {
+        return None;
+    }
+    let rows = indices.len();
+    let basis = nalgebra::DMatrix::from_fn(rows, 3, |r, c| (s[indices[r]] - at).powi(c as i32));
+    let values = nalgebra::DMatrix::from_fn(rows, 3, |r, c| points[indices[r]][c]);
+    let solution = basis.svd(true, true).solve(&values, 1e-12).ok()?;
+    Some(Point::new(
+        solution[(0, 0)],
+        solution[(0, 1)],
+        solution[(0, 2)],
+    ))
+}
+
+/// Whether the curve lies in a plane: the RMS distance of its points from
+/// their best-fit plane (normal to the smallest principal axis) is within
+/// `PLANAR_TOLERANCE` of its length, or within the noise found on it.
+pub fn is_planar(curve: &Curve, noise_mm: f64) -> bool {
+    let points = curve.points();
+    let mean = points.iter().sum::<Point>() / points.len() as f64;
+    let scatter = points
+        .iter()
+        .map(|p| (p - mean) * (p - mean).transpose())
+        .sum::<nalgebra::Matrix3<f64>>();
+    // The smallest eigenvalue of the scatter is the sum of squared
+    // distances from the best-fit plane.
+    let eigen = scatter.symmetric_eigen();
+    let smallest = eigen.eigenvalues.min().max(0.0);
+    let rms = (smallest / points.len() as f64).sqrt();
+    rms <= (PLANAR_TOLERANCE * curve.length()).max(noise_mm)
+}
+
+#[cfg(test)]
+#[path = "input_tests.rs"]
+mod tests;

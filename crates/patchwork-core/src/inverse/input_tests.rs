@@ -1,0 +1,53 @@
+use super::*;
+use crate::curve::presets::{ArcParams, Preset};
+
+fn arc() -> Curve {
+    Preset::Arc(ArcParams {
+        radius_mm: 40.0,
+        angle_deg: 180.0,
+    })
+    .generate(400)
+    .unwrap()
+}
+
+#[test]
+fn a_clean_curve_is_left_as_given() {
+    let (prepared, report) = prepare(&arc(), Smoothing::Auto, 0.01).unwrap();
+    assert_eq!(prepared, arc());
+    assert_eq!(report.smoothing_mm, 0.0);
+    assert!(report.automatic && report.planar);
+}
+
+#[test]
+fn a_noisy_curve_is_smoothed_by_the_noise_found_and_the_user_can_override() {
+    let clean = arc();
+    let noisy = clean.with_noise(0.3 / clean.length(), 11).unwrap();
+    let (prepared, report) = prepare(&noisy, Smoothing::Auto, 0.01).unwrap();
+    assert!((report.noise_mm - 0.3).abs() < 0.05, "{report:?}");
+    assert!(
+        report.smoothing_mm > 1.0 && report.smoothing_mm <= 8.0,
+        "{report:?}"
+    );
+    // Well over twice as close to the clean arc as the noisy one, in RMS.
+    let rms = |curve: &Curve| {
+        let points = curve.points().iter().zip(clean.points());
+        (points.map(|(p, q)| (p - q).norm_squared()).sum::<f64>() / clean.len() as f64).sqrt()
+    };
+    assert!(
+        rms(&prepared) < rms(&noisy) / 2.5,
+        "{} {}",
+        rms(&prepared),
+        rms(&noisy)
+    );
+    // Noise of 0.3 mm in every coordinate is 0.24 % of the length out of
+    // plane: planar within the noise, smoothed or not.
+    assert!(report.planar);
+    let (_, given) = prepare(&noisy, Smoothing::Sigma(0.0), 0.01).unwrap();
+    assert!(!given.automatic && given.smoothing_mm == 0.0 && given.planar);
+}
+
+#[test]
+fn a_helix_is_not_planar() {
+    let helix = Preset::helix(20.0, 40.0, 1.0).generate(200).unwrap();
+    assert!(!is_planar(&helix, 0.0));
+}

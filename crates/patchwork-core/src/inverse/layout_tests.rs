@@ -1,0 +1,61 @@
+use super::*;
+use crate::curve::presets::{ArcParams, Preset};
+
+fn balloon(length: f64, patches: Vec<Patch>) -> Design {
+    let mut design = Design::reference(patches);
+    design.balloon.length_mm = length;
+    design
+}
+
+fn patch(x: f64, y: f64, h: f64) -> Patch {
+    Patch {
+        x_mm: x,
+        y_mm: y,
+        h_mm: h,
+        w_mm: 1.5,
+        theta_deg: 0.0,
+    }
+}
+
+#[test]
+fn a_gentle_arc_gets_patches_where_the_design_has_none() {
+    // r = 150 mm: κ = 0.0067 mm⁻¹, under KSA's 0.01 but over 0.004.
+    let arc = Preset::Arc(ArcParams {
+        radius_mm: 150.0,
+        angle_deg: 180.0,
+    })
+    .generate(400)
+    .unwrap();
+    let empty = balloon(300.0, vec![]);
+    let params = KsaParams {
+        max_patch_mm: Some(30.0),
+        ..KsaParams::default()
+    };
+    let finer = with_gentle_bends(&empty, &arc, 0.01, &params).unwrap();
+    assert!(finer.patches.len() >= 10, "{:?}", finer.patches);
+    assert!(finer.patches.iter().all(|p| p.h_mm <= 30.0 + 1e-9));
+    // A design that already covers the whole balloon gets nothing more.
+    let covered = balloon(300.0, vec![patch(0.0, 150.0, 300.0)]);
+    assert_eq!(with_gentle_bends(&covered, &arc, 0.01, &params), None);
+}
+
+#[test]
+fn added_patches_are_turned_into_the_designs_frame() {
+    let circumference = TAU * 3.18;
+    let design = [patch(5.0, 50.0, 20.0), patch(7.0, 150.0, 20.0)];
+    let ksa = [
+        patch(1.0, 52.0, 18.0),
+        patch(3.0, 149.0, 22.0),
+        patch(2.0, 250.0, 20.0),
+    ];
+    let offset = frame_offset(&design, &ksa, circumference);
+    assert!((offset - 4.0).abs() < 1e-9, "{offset}");
+    // Across the seam: 19 and 1 are 2 mm apart on a 19.98 mm circumference.
+    let seam = frame_offset(
+        &[patch(0.5, 50.0, 20.0)],
+        &[patch(19.0, 50.0, 20.0)],
+        circumference,
+    );
+    assert!((seam - (0.5 - 19.0 + circumference)).abs() < 1e-9, "{seam}");
+    assert_eq!(frame_offset(&[], &ksa, circumference), 0.0);
+}

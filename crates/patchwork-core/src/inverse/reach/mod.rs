@@ -1,0 +1,9 @@
+//! What the balloon can make within the bounds (`table.rs`, from the FE
+//! model), and where a target asks for more (`verdict.rs`).
+
+mod helix;
+mod table;
+mod verdict;
+
+pub use table::{PatchResponse, ReachTable};
+pub use verdict::{OutOfReach, ReachReport, WindowLengths, judge};

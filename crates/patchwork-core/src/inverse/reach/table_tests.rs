@@ -1,0 +1,98 @@
+use super::*;
+use crate::fe::mesh::MeshSpec;
+
+fn model() -> SimulateOptions {
+    SimulateOptions {
+        mesh: MeshSpec::uniform(1.0),
+        ..SimulateOptions::default()
+    }
+}
+
+fn table() -> ReachTable {
+    let reference = Design::reference(vec![]);
+    ReachTable::compute(
+        &reference,
+        &VariableBounds::default(),
+        &model(),
+        &Caches::default(),
+    )
+    .unwrap()
+}
+
+fn entry(table: &ReachTable, width: f64, theta: f64) -> PatchResponse {
+    *table
+        .entries
+        .iter()
+        .find(|e| e.width_mm == width && e.theta_deg == theta)
+        .unwrap()
+}
+
+/// The reference scene's table: every width and angle of the grid solves; an
+/// axial patch bends without twisting, a wider one more; an inclined one
+/// twists the centreline as KSA's relation says.
+#[test]
+fn the_reference_table_bends_and_twists_as_patches_do() {
+    let table = table();
+    assert_eq!(table.entries.len(), 3 * ANGLES_DEG.len());
+    let straight: Vec<PatchResponse> = [1.0, 2.0, 3.0]
+        .iter()
+        .map(|&w| entry(&table, w, 0.0))
+        .collect();
+    for e in &straight {
+        assert!(e.torsion_per_mm.abs() < 1e-3 * e.curvature_per_mm, "{e:?}");
+    }
+    assert!(straight[0].curvature_per_mm > 0.0);
+    assert!(straight[1].curvature_per_mm > straight[0].curvature_per_mm);
+    assert!(straight[2].curvature_per_mm > straight[1].curvature_per_mm);
+    // The tightest bend of the reference patch (3 mm, 0.49 mm thick, 1.3
+    // MPa on a 3.18 mm tube at 20 kPa): a radius of about 24 mm.
+    let tightest = 1.0 / straight[2].curvature_per_mm;
+    assert!(tightest > 20.0 && tightest < 28.0, "{tightest}");
+    // Inclined, the patch turns round the tube along its length: the
+    // centreline twists by φ = H tan Θ / R₀ over the patch's length H (KSA's
+    // relation), τ = tan Θ / (R₀ λ) per inflated length for an axial stretch
+    // λ, the same λ at every angle.
+    let widest = table.widest();
+    assert!(
+        widest[1..].iter().all(|e| e.torsion_per_mm > 0.0),
+        "{widest:?}"
+    );
+    let stretch: Vec<f64> = widest[1..4]
+        .iter()
+        .map(|e| e.theta_deg.to_radians().tan() / (e.torsion_per_mm * 3.18))
+        .collect();
+    for lambda in &stretch {
+        assert!(*lambda > 1.2 && *lambda < 2.0, "{stretch:?}");
+        assert!((lambda / stretch[0] - 1.0).abs() < 0.12, "{stretch:?}");
+    }
+    // More twist per bend the steeper the patch.
+    let ratio = |e: &PatchResponse| e.torsion_per_mm / e.curvature_per_mm;
+    for pair in widest.windows(2).filter(|p| p[1].theta_deg <= 45.0) {
+        assert!(ratio(&pair[1]) > ratio(&pair[0]), "{pair:?}");
+    }
+}
+
+/// The bend of the fitted helix against the bend of the simulation's own
+/// centreline (its 72 rings' circle fits and finite differences), over the
+/// middle of one axial patch: within 5 %.
+#[test]
+fn the_fitted_bend_matches_the_centreline_curvature() {
+    let reference = Design::reference(vec![]);
+    let design = one_patch(&reference, 30.0, 3.0, 0.0);
+    let simulation = crate::fe::simulate(&design, &model()).unwrap();
+    let (curvature, _) = middle_helix(&design, &simulation);
+    let patch = &design.patches[0];
+    let middle: Vec<f64> = simulation
+        .rings
+        .iter()
+        .zip(&simulation.curvature)
+        .filter(|(ring, _)| (ring.y - patch.y_mm).abs() <= 0.25 * patch.h_mm)
+        .map(|(_, k)| *k)
+        .collect();
+    let centreline = middle.iter().sum::<f64>() / middle.len() as f64;
+    assert!(middle.len() >= 5, "{middle:?}");
+    assert!(
+        (curvature / centreline - 1.0).abs() < 0.05,
+        "rings {curvature}, centreline {centreline}"
+    );
+}

@@ -1,0 +1,40 @@
+//! The reach stage: before the search, what one patch makes within the
+//! bounds (a table from the FE model on the verification mesh, its solves
+//! cached with the run's), and where the target asks for more.
+
+use super::super::errors::DesignRunError;
+use super::super::outcome::Stage;
+use super::super::reach::{ReachTable, WindowLengths, judge};
+use super::super::run::{Context, Run};
+use super::RunStage;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reach;
+
+impl RunStage for Reach {
+    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+        let state = &run.state;
+        ctx.report(
+            Stage::Reach,
+            0,
+            state.evaluations,
+            state.best_objective,
+            0.0,
+        );
+        let setup = &run.setup;
+        let bounds = &setup.settings.bounds;
+        let table = ReachTable::compute(
+            &setup.settings.base,
+            bounds,
+            &setup.verify_model,
+            ctx.caches,
+        )
+        .map_err(DesignRunError::Reach)?;
+        let lengths = WindowLengths {
+            bend_mm: bounds.h_min_mm,
+            twist_mm: bounds.h_max_mm,
+        };
+        run.reach = Some(judge(setup.target, table, lengths, setup.tuning.kappa_tol));
+        Ok(())
+    }
+}

@@ -1,0 +1,136 @@
+//! The summary `patchwork design` prints: lengths, errors, what was done
+//! to the target and where it is out of reach, the stages, limits hit and
+//! the patches.
+
+use patchwork_core::inverse::layout::LayoutTrial;
+use patchwork_core::inverse::reach::ReachReport;
+use patchwork_core::inverse::{DesignReport, InputReport, RefineSummary};
+
+use super::output::patch_table;
+
+pub fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
+    let m = &r.metrics;
+    let mut s = format!(
+        "target {:.1} mm; inflated {:.1} mm; cut the balloon {:.1} mm long\n\
+         search model: objective {:.4} (KSA seed {:.4})\n\
+         verified:     shape error {:.2} mm ({:.2} % of length); objective {:.4}; DTW κ {:.4}, τ {:.4}\n\
+         {} evaluations in {:.1} s ({})\n",
+        r.target_length_mm,
+        r.inflated_length_mm,
+        r.uninflated_length_to_cut_mm,
+        r.search_objective,
+        r.seed_objective,
+        m.shape_error_mm,
+        m.shape_error_percent,
+        m.objective,
+        m.dtw_curvature,
+        m.dtw_torsion,
+        r.evaluations,
+        r.elapsed_s,
+        r.termination
+    );
+    s.push_str(&input_line(&r.input));
+    s.push_str(&reach_lines(r.reach.as_ref()));
+    s.push_str(&refine_line("refine:      ", r.refine.as_ref()));
+    s.push_str(&layout_lines(&r.layouts));
+    s.push_str(&refine_line("final refine:", r.final_refine.as_ref()));
+    if let Some(why) = &r.final_refine_skipped {
+        s.push_str(&format!("final refine: not run: {why}\n"));
+    }
+    for hit in &r.at_limits {
+        let note = if hit.beyond {
+            "beyond: the range was widened to hold KSA's seed"
+        } else {
+            "pinned: relax it with --bounds if the fabrication allows"
+        };
+        s.push_str(&format!(
+            "limit:        P{} {} {:.2} at {} {} ({note})\n",
+            hit.patch, hit.field, hit.value, hit.bound, hit.limit
+        ));
+    }
+    s.push_str(&patch_table(&r.design.patches, |_| ""));
+    s.push_str(&format!(
+        "files in {}: design.json design.csv patches.dxf template.dxf template.svg profiles.svg\n",
+        dir.display()
+    ));
+    s
+}
+
+/// One line on a refine stage (empty when it did not run).
+fn refine_line(label: &str, refine: Option<&RefineSummary>) -> String {
+    match refine {
+        Some(refine) if refine.solves == 0 => {
+            format!("{label} none: one step needs 2 solves, a Jacobian and a trial (--refine)\n")
+        }
+        Some(refine) => format!(
+            "{label} shape error {:.2} % → {:.2} % in {} steps ({} solves, {} Jacobians{})\n",
+            refine.shape_error_before_percent,
+            refine.shape_error_after_percent,
+            refine.iterations,
+            refine.solves,
+            refine.jacobians,
+            match refine.differenced_jacobians {
+                0 => String::new(),
+                d => format!(
+                    ", {d} of them by forward differences, {} solves each",
+                    refine.variables
+                ),
+            }
+        ),
+        None => String::new(),
+    }
+}
+
+/// What was done to the target: its smoothing and whether it is planar.
+fn input_line(input: &InputReport) -> String {
+    let smoothing = match (input.smoothing_mm > 0.0, input.automatic) {
+        (true, true) => format!(
+            "noise {:.2} mm on the points: smoothed with σ {:.1} mm (automatic; --smooth-mm overrides)",
+            input.noise_mm, input.smoothing_mm
+        ),
+        (true, false) => format!("smoothed with σ {:.1} mm (--smooth-mm)", input.smoothing_mm),
+        (false, true) => "as given (no noise found)".to_string(),
+        (false, false) => "as given (--smooth-mm 0)".to_string(),
+    };
+    let planar = if input.planar { "; planar" } else { "" };
+    format!("input:        {smoothing}{planar}\n")
+}
+
+/// Whether the target is within reach, and where not.
+fn reach_lines(reach: Option<&ReachReport>) -> String {
+    let Some(reach) = reach else {
+        return String::new();
+    };
+    if reach.reachable() {
+        return format!(
+            "reach:        all within reach (tightest bend radius {:.1} mm, most twist per bend {:.2})\n",
+            reach.tightest_bend_radius_mm, reach.most_twist_per_bend
+        );
+    }
+    reach
+        .out_of_reach
+        .iter()
+        .map(|span| {
+            format!(
+                "out of reach: {}; the design does its best there\n",
+                span.message
+            )
+        })
+        .collect()
+}
+
+/// The layouts tried after the refine, the chosen one marked.
+fn layout_lines(layouts: &[LayoutTrial]) -> String {
+    layouts
+        .iter()
+        .map(|l| {
+            format!(
+                "layout:       {:<40} {:>3} patches, shape error {:.2} %{}\n",
+                l.layout,
+                l.patches,
+                l.shape_error_percent,
+                if l.chosen { "  (chosen)" } else { "" }
+            )
+        })
+        .collect()
+}
