@@ -16,11 +16,14 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
+use patchwork_core::curve::{Curve, shape_error};
 use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::simulate;
 use patchwork_core::inverse::input::prepare;
-use patchwork_core::inverse::{Plan, Smoothing, UserSettings, assess, design};
+use patchwork_core::inverse::objective::SHAPE_SAMPLES;
+use patchwork_core::inverse::{DesignOutcome, Plan, Smoothing, UserSettings, design};
 
-use super::bench_suite::{Suite, suite};
+use super::bench_suite::{Setting, Suite, Target, suite};
 use super::output::emit;
 
 #[derive(Args)]
@@ -69,6 +72,9 @@ struct Row {
     shape_error_percent: f64,
     /// Shape error of the design on `REFERENCE_MESH`.
     reference_error_percent: f64,
+    /// The same against the clean curve a drawn target was drawn from (NaN
+    /// for the others).
+    clean_error_percent: f64,
     dtw_curvature: f64,
     dtw_torsion: f64,
     patches: f64,
@@ -100,90 +106,16 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 .iter()
                 .any(|f| name.to_lowercase().contains(&f.to_lowercase()))
     };
-    curves.retain(|(name, _)| wanted(&args.curves, name));
+    curves.retain(|t| wanted(&args.curves, &t.name));
     settings.retain(|s| args.settings.is_empty() || args.settings.iter().any(|f| f == s.name));
     anyhow::ensure!(
         !curves.is_empty() && !settings.is_empty(),
         "--curves/--settings select nothing from the suite"
     );
     let mut rows = Vec::new();
-    for (curve_name, target) in &curves {
+    for target in &curves {
         for setting in &settings {
-            let mut samples = Vec::new();
-            let mut failures = 0;
-            let mut reach = String::from("–");
-            for seed in 1..=args.runs as u64 {
-                let settings = UserSettings {
-                    fidelity: setting.fidelity,
-                    budget: Some(setting.budget),
-                    seed,
-                    threads: args.threads,
-                    ..UserSettings::default()
-                };
-                let plan = Plan::resolve(settings, &setting.overrides())?;
-                // Each run is timed as a fresh process would run it: with
-                // caches of its own.
-                let started = Instant::now();
-                match design(target, &plan, &AtomicBool::new(false), &mut |_| {}) {
-                    Ok(o) => {
-                        let wall_s = started.elapsed().as_secs_f64();
-                        let reference = if o.verified_on == REFERENCE_MESH {
-                            o.metrics.shape_error_percent
-                        } else {
-                            // Against the target the run aimed at (smoothed
-                            // as the run smoothed it).
-                            let (aimed, _) =
-                                prepare(target, Smoothing::Auto, plan.tuning().kappa_tol)?;
-                            assess(&aimed, &o.design, REFERENCE_MESH, plan.tuning())
-                                .map_or(f64::NAN, |m| m.shape_error_percent)
-                        };
-                        reach = match &o.reach {
-                            Some(r) if r.reachable() => "yes".into(),
-                            Some(r) => r
-                                .out_of_reach
-                                .iter()
-                                .map(|span| {
-                                    format!(
-                                        "no: s {:.0}–{:.0} mm needs r {:.0} mm",
-                                        span.s_start_mm, span.s_end_mm, span.needs_bend_radius_mm
-                                    )
-                                })
-                                .collect::<Vec<_>>()
-                                .join("; "),
-                            None => "–".into(),
-                        };
-                        samples.push([
-                            wall_s,
-                            o.evaluations as f64,
-                            o.metrics.shape_error_percent,
-                            reference,
-                            o.metrics.dtw_curvature,
-                            o.metrics.dtw_torsion,
-                            o.design.patches.len() as f64,
-                            o.at_limits.iter().filter(|a| a.beyond).count() as f64,
-                        ])
-                    }
-                    Err(e) => {
-                        eprintln!("{curve_name}, {}, seed {seed}: {e}", setting.name);
-                        failures += 1;
-                    }
-                }
-            }
-            let column = |k: usize| median(samples.iter().map(|s| s[k]).collect());
-            let row = Row {
-                curve: curve_name.clone(),
-                setting: setting.name,
-                wall_s: column(0),
-                evaluations: column(1),
-                shape_error_percent: column(2),
-                reference_error_percent: column(3),
-                dtw_curvature: column(4),
-                dtw_torsion: column(5),
-                patches: column(6),
-                beyond_limits: samples.iter().map(|s| s[7]).fold(0.0, f64::max),
-                reach,
-                failures,
-            };
+            let row = measure_row(target, setting, &args)?;
             eprintln!(
                 "{:<40} {:<24} {:>8.2} s {:>6.0} evals {:>6.2} % (reference model {:.2} %), {} patches, {} beyond limits",
                 row.curve,
@@ -218,23 +150,137 @@ pub fn run(args: BenchArgs) -> Result<()> {
     emit(&table)
 }
 
+/// One run's figures, in the order of `Row`'s numeric columns.
+struct Sample {
+    wall_s: f64,
+    evaluations: f64,
+    shape_error_percent: f64,
+    reference_error_percent: f64,
+    clean_error_percent: f64,
+    dtw_curvature: f64,
+    dtw_torsion: f64,
+    patches: f64,
+    beyond_limits: f64,
+}
+
+/// `setting` on `target`, once per seed: the medians (the most beyond
+/// limits), the reach verdict and the failures.
+fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Result<Row> {
+    let mut samples = Vec::new();
+    let mut failures = 0;
+    let mut reach = String::from("–");
+    for seed in 1..=args.runs as u64 {
+        let settings = UserSettings {
+            fidelity: setting.fidelity,
+            budget: Some(setting.budget),
+            seed,
+            threads: args.threads,
+            ..UserSettings::default()
+        };
+        let plan = Plan::resolve(settings, &setting.overrides())?;
+        // Each run is timed as a fresh process would run it: with caches
+        // of its own.
+        let started = Instant::now();
+        match design(&target.curve, &plan, &AtomicBool::new(false), &mut |_| {}) {
+            Ok(o) => {
+                let wall_s = started.elapsed().as_secs_f64();
+                reach = verdict(&o);
+                samples.push(sample(target, &plan, &o, wall_s)?);
+            }
+            Err(e) => {
+                eprintln!("{}, {}, seed {seed}: {e}", target.name, setting.name);
+                failures += 1;
+            }
+        }
+    }
+    let column = |f: fn(&Sample) -> f64| median(samples.iter().map(f).collect());
+    Ok(Row {
+        curve: target.name.clone(),
+        setting: setting.name,
+        wall_s: column(|s| s.wall_s),
+        evaluations: column(|s| s.evaluations),
+        shape_error_percent: column(|s| s.shape_error_percent),
+        reference_error_percent: column(|s| s.reference_error_percent),
+        clean_error_percent: column(|s| s.clean_error_percent),
+        dtw_curvature: column(|s| s.dtw_curvature),
+        dtw_torsion: column(|s| s.dtw_torsion),
+        patches: column(|s| s.patches),
+        beyond_limits: samples.iter().map(|s| s.beyond_limits).fold(0.0, f64::max),
+        reach,
+        failures,
+    })
+}
+
+/// The figures of one finished run. The reference error is the design's
+/// on `REFERENCE_MESH` against the target the run aimed at (smoothed as
+/// the run smoothed it); a drawn target's clean error is that simulation's
+/// against the clean curve it was drawn from.
+fn sample(target: &Target, plan: &Plan, o: &DesignOutcome, wall_s: f64) -> Result<Sample> {
+    let tuning = plan.tuning();
+    let (aimed, _) = prepare(&target.curve, Smoothing::Auto, tuning.kappa_tol)?;
+    let on_reference = match o.verified_on == REFERENCE_MESH {
+        true => Some(o.simulation.clone()),
+        false => simulate(&o.design, &tuning.model(REFERENCE_MESH)).ok(),
+    };
+    let error_against = |curve: &Curve| {
+        on_reference
+            .as_ref()
+            .and_then(|s| shape_error(&s.centreline, curve, SHAPE_SAMPLES).ok())
+            .map_or(f64::NAN, |e| e.percent_of_length)
+    };
+    Ok(Sample {
+        wall_s,
+        evaluations: o.evaluations as f64,
+        shape_error_percent: o.metrics.shape_error_percent,
+        reference_error_percent: error_against(&aimed),
+        clean_error_percent: target.clean.as_ref().map_or(f64::NAN, error_against),
+        dtw_curvature: o.metrics.dtw_curvature,
+        dtw_torsion: o.metrics.dtw_torsion,
+        patches: o.design.patches.len() as f64,
+        beyond_limits: o.at_limits.iter().filter(|a| a.beyond).count() as f64,
+    })
+}
+
+/// The reach stage's verdict in a table cell.
+fn verdict(o: &DesignOutcome) -> String {
+    match &o.reach {
+        Some(r) if r.reachable() => "yes".into(),
+        Some(r) => r
+            .out_of_reach
+            .iter()
+            .map(|span| {
+                format!(
+                    "no: s {:.0}–{:.0} mm needs r {:.0} mm",
+                    span.s_start_mm, span.s_end_mm, span.needs_bend_radius_mm
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("; "),
+        None => "–".into(),
+    }
+}
+
 fn table(rows: &[Row], command: &str) -> String {
     let mut out = format!(
         "`{command}` — medians over the runs\n\n\
          Shape error on the run's own verification model, and of its design \
          re-simulated on the common reference model (uniform 0.5 mm).\n\n\
-         | curve | setting | wall s | evaluations | shape error % (own) | shape error % (reference) | DTW κ | DTW τ | patches | beyond limits | within reach | failed runs |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|\n"
+         | curve | setting | wall s | evaluations | shape error % (own) | shape error % (reference) | against the clean curve % | DTW κ | DTW τ | patches | beyond limits | within reach | failed runs |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
     );
     for r in rows {
         out.push_str(&format!(
-            "| {} | {} | {:.2} | {:.0} | {:.2} | {:.2} | {:.3} | {:.3} | {:.0} | {:.0} | {} | {} |\n",
+            "| {} | {} | {:.2} | {:.0} | {:.2} | {:.2} | {} | {:.3} | {:.3} | {:.0} | {:.0} | {} | {} |\n",
             r.curve,
             r.setting,
             r.wall_s,
             r.evaluations,
             r.shape_error_percent,
             r.reference_error_percent,
+            match r.clean_error_percent.is_finite() {
+                true => format!("{:.2}", r.clean_error_percent),
+                false => "–".into(),
+            },
             r.dtw_curvature,
             r.dtw_torsion,
             r.patches,

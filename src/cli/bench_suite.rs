@@ -22,7 +22,29 @@ pub enum Suite {
 }
 
 /// The suite's target curves, by name.
-pub type Targets = Vec<(String, Curve)>;
+pub type Targets = Vec<Target>;
+
+/// One curve of a suite; a drawn one knows the clean curve it was drawn
+/// from, to judge the design against.
+pub struct Target {
+    pub name: String,
+    pub curve: Curve,
+    pub clean: Option<Curve>,
+}
+
+impl From<(String, Curve)> for Target {
+    fn from((name, curve): (String, Curve)) -> Target {
+        Target {
+            name,
+            curve,
+            clean: None,
+        }
+    }
+}
+
+fn targets(curves: Vec<(String, Curve)>) -> Targets {
+    curves.into_iter().map(Target::from).collect()
+}
 
 /// One fidelity setting of the suite.
 pub struct Setting {
@@ -126,7 +148,7 @@ fn quick() -> Result<(Targets, Vec<Setting>)> {
         },
         Setting::new("standard 60 refine 75", Fidelity::Standard, 60, 75),
     ];
-    Ok((curves, settings))
+    Ok((targets(curves), settings))
 }
 
 fn reference() -> Result<(Targets, Vec<Setting>)> {
@@ -175,7 +197,7 @@ fn reference() -> Result<(Targets, Vec<Setting>)> {
         },
         Setting::preset("fine", Fidelity::Fine),
     ];
-    Ok((curves, settings))
+    Ok((targets(curves), settings))
 }
 
 /// A 150 mm arc with 1 % (of length) seeded noise, smoothed as a user would.
@@ -214,13 +236,18 @@ fn any_curve() -> Result<(Targets, Vec<Setting>)> {
     for (name, family, params) in shapes {
         curves.push((name.to_string(), preset(family, params)?));
     }
-    curves.push(("hand-drawn hook (±0.3 mm)".to_string(), hand_drawn(false)?));
-    curves.push((
-        "hand-drawn 3D loop (±0.3 mm)".to_string(),
-        hand_drawn(true)?,
-    ));
+    let mut curves = targets(curves);
+    for (name, three_d) in [("hand-drawn hook", false), ("hand-drawn 3D loop", true)] {
+        let (clean, drawn) = hand_drawn(three_d)?;
+        curves.push(Target {
+            name: format!("{name} (±0.3 mm)"),
+            curve: drawn,
+            clean: Some(clean.clone()),
+        });
+        curves.push((format!("{name}, clean stroke"), clean).into());
+    }
     for name in ["hilbert", "pancake", "spring"] {
-        curves.push((format!("{name} (reference)"), reference_curve(name)?));
+        curves.push((format!("{name} (reference)"), reference_curve(name)?).into());
     }
     let settings = vec![
         Setting::preset("draft", Fidelity::Draft),
@@ -242,8 +269,9 @@ fn any_curve() -> Result<(Targets, Vec<Setting>)> {
 }
 
 /// A curve as a hand draws it: a smooth stroke (a few slow harmonics, planar
-/// or not) sampled every millimetre or so, with seeded jitter of 0.3 mm.
-fn hand_drawn(three_d: bool) -> Result<Curve> {
+/// or not) sampled every millimetre or so, and the same with seeded jitter
+/// of 0.3 mm.
+fn hand_drawn(three_d: bool) -> Result<(Curve, Curve)> {
     let stroke = |t: f64| -> Point {
         let x = 260.0 * t + 12.0 * (3.1 * t).sin();
         let y = 70.0 * (1.0 - (2.6 * t).cos()) + 6.0 * (7.3 * t + 0.4).sin();
@@ -254,5 +282,6 @@ fn hand_drawn(three_d: bool) -> Result<Curve> {
         Point::new(x, y, z)
     };
     let clean = Curve::from_points((0..320).map(|i| stroke(i as f64 / 319.0)).collect())?;
-    Ok(clean.with_noise(0.3 / clean.length(), if three_d { 31 } else { 17 })?)
+    let drawn = clean.with_noise(0.3 / clean.length(), if three_d { 31 } else { 17 })?;
+    Ok((clean, drawn))
 }
