@@ -46,7 +46,9 @@ impl RunStage for FinalRefineStage {
         run.verified_on = mesh;
         let done = run.refine.map_or(0, |r| r.solves);
         let budget = self.shared_solves.saturating_sub(done);
-        if run.space.dimension() == 0 || budget == 0 {
+        // The design's own patches: the layout stage may have added some
+        // to a seed that had none.
+        if run.design.patches.is_empty() || budget == 0 {
             run.verified = Some(start);
             return Ok(());
         }
