@@ -67,19 +67,8 @@ const REFERENCE_MESH: MeshSpec = MeshSpec {
 struct Row {
     curve: String,
     setting: &'static str,
-    wall_s: f64,
-    evaluations: f64,
-    shape_error_percent: f64,
-    /// Shape error of the design on `REFERENCE_MESH`.
-    reference_error_percent: f64,
-    /// The same against the clean curve a drawn target was drawn from (NaN
-    /// for the others).
-    clean_error_percent: f64,
-    dtw_curvature: f64,
-    dtw_torsion: f64,
-    patches: f64,
-    /// Patch sizes or angles beyond a fabrication limit (the most over the runs).
-    beyond_limits: f64,
+    /// Medians over the runs (the most beyond limits).
+    figures: Sample,
     /// The reach stage's verdict: "yes", or the stretches out of reach.
     reach: String,
     failures: usize,
@@ -120,12 +109,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 "{:<40} {:<24} {:>8.2} s {:>6.0} evals {:>6.2} % (reference model {:.2} %), {} patches, {} beyond limits",
                 row.curve,
                 row.setting,
-                row.wall_s,
-                row.evaluations,
-                row.shape_error_percent,
-                row.reference_error_percent,
-                row.patches,
-                row.beyond_limits
+                row.figures.wall_s,
+                row.figures.evaluations,
+                row.figures.shape_error_percent,
+                row.figures.reference_error_percent,
+                row.figures.patches,
+                row.figures.beyond_limits
             );
             rows.push(row);
         }
@@ -150,12 +139,15 @@ pub fn run(args: BenchArgs) -> Result<()> {
     emit(&table)
 }
 
-/// One run's figures, in the order of `Row`'s numeric columns.
+/// One run's figures (or their medians over the runs).
 struct Sample {
     wall_s: f64,
     evaluations: f64,
     shape_error_percent: f64,
+    /// Shape error of the design on `REFERENCE_MESH`.
     reference_error_percent: f64,
+    /// The same against the clean curve a drawn target was drawn from (NaN
+    /// for the others).
     clean_error_percent: f64,
     dtw_curvature: f64,
     dtw_torsion: f64,
@@ -197,15 +189,17 @@ fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Result<R
     Ok(Row {
         curve: target.name.clone(),
         setting: setting.name,
-        wall_s: column(|s| s.wall_s),
-        evaluations: column(|s| s.evaluations),
-        shape_error_percent: column(|s| s.shape_error_percent),
-        reference_error_percent: column(|s| s.reference_error_percent),
-        clean_error_percent: column(|s| s.clean_error_percent),
-        dtw_curvature: column(|s| s.dtw_curvature),
-        dtw_torsion: column(|s| s.dtw_torsion),
-        patches: column(|s| s.patches),
-        beyond_limits: samples.iter().map(|s| s.beyond_limits).fold(0.0, f64::max),
+        figures: Sample {
+            wall_s: column(|s| s.wall_s),
+            evaluations: column(|s| s.evaluations),
+            shape_error_percent: column(|s| s.shape_error_percent),
+            reference_error_percent: column(|s| s.reference_error_percent),
+            clean_error_percent: column(|s| s.clean_error_percent),
+            dtw_curvature: column(|s| s.dtw_curvature),
+            dtw_torsion: column(|s| s.dtw_torsion),
+            patches: column(|s| s.patches),
+            beyond_limits: samples.iter().map(|s| s.beyond_limits).fold(0.0, f64::max),
+        },
         reach,
         failures,
     })
@@ -273,18 +267,18 @@ fn table(rows: &[Row], command: &str) -> String {
             "| {} | {} | {:.2} | {:.0} | {:.2} | {:.2} | {} | {:.3} | {:.3} | {:.0} | {:.0} | {} | {} |\n",
             r.curve,
             r.setting,
-            r.wall_s,
-            r.evaluations,
-            r.shape_error_percent,
-            r.reference_error_percent,
-            match r.clean_error_percent.is_finite() {
-                true => format!("{:.2}", r.clean_error_percent),
+            r.figures.wall_s,
+            r.figures.evaluations,
+            r.figures.shape_error_percent,
+            r.figures.reference_error_percent,
+            match r.figures.clean_error_percent.is_finite() {
+                true => format!("{:.2}", r.figures.clean_error_percent),
                 false => "–".into(),
             },
-            r.dtw_curvature,
-            r.dtw_torsion,
-            r.patches,
-            r.beyond_limits,
+            r.figures.dtw_curvature,
+            r.figures.dtw_torsion,
+            r.figures.patches,
+            r.figures.beyond_limits,
             r.reach,
             r.failures
         ));
@@ -303,14 +297,14 @@ fn plot(rows: &[Row]) -> String {
     ];
     let ok: Vec<&Row> = rows
         .iter()
-        .filter(|r| r.wall_s.is_finite() && r.reference_error_percent.is_finite())
+        .filter(|r| r.figures.wall_s.is_finite() && r.figures.reference_error_percent.is_finite())
         .collect();
     let (t_lo, t_hi) = ok.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
-        (a.min(r.wall_s.max(1e-3)), b.max(r.wall_s))
+        (a.min(r.figures.wall_s.max(1e-3)), b.max(r.figures.wall_s))
     });
     let e_hi = ok
         .iter()
-        .fold(0.0f64, |a, r| a.max(r.reference_error_percent))
+        .fold(0.0f64, |a, r| a.max(r.figures.reference_error_percent))
         * 1.1
         + 1e-9;
     let (lx0, lx1) = (
@@ -359,25 +353,25 @@ fn plot(rows: &[Row]) -> String {
     for (i, name) in curves.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         let mut points: Vec<&&Row> = ok.iter().filter(|r| r.curve == *name).collect();
-        points.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+        points.sort_by(|a, b| a.figures.wall_s.total_cmp(&b.figures.wall_s));
         let mut front = Vec::new();
         let mut best = f64::INFINITY;
         for r in &points {
-            if r.reference_error_percent < best {
-                best = r.reference_error_percent;
+            if r.figures.reference_error_percent < best {
+                best = r.figures.reference_error_percent;
                 front.push(format!(
                     "{:.1},{:.1}",
-                    x(r.wall_s),
-                    y(r.reference_error_percent)
+                    x(r.figures.wall_s),
+                    y(r.figures.reference_error_percent)
                 ));
             }
             svg.push_str(&format!(
                 "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"4\" fill=\"{colour}\"><title>{name}: {} — {:.2} s, {:.2} %</title></circle>\n",
-                x(r.wall_s),
-                y(r.reference_error_percent),
+                x(r.figures.wall_s),
+                y(r.figures.reference_error_percent),
                 r.setting,
-                r.wall_s,
-                r.reference_error_percent
+                r.figures.wall_s,
+                r.figures.reference_error_percent
             ));
         }
         svg.push_str(&format!(
