@@ -161,6 +161,7 @@ fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Result<R
     let mut samples = Vec::new();
     let mut failures = 0;
     let mut reach = String::from("–");
+    let mut aimed: Option<Curve> = None;
     for seed in 1..=args.runs as u64 {
         let settings = UserSettings {
             fidelity: setting.fidelity,
@@ -177,7 +178,15 @@ fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Result<R
             Ok(o) => {
                 let wall_s = started.elapsed().as_secs_f64();
                 reach = verdict(&o);
-                samples.push(sample(target, &plan, &o, wall_s)?);
+                // The target the runs aimed at: smoothed as they smoothed
+                // it, the same for every seed.
+                if aimed.is_none() {
+                    let kappa_tol = plan.tuning().kappa_tol;
+                    aimed = Some(prepare(&target.curve, Smoothing::Auto, kappa_tol)?.0);
+                }
+                if let Some(aimed) = &aimed {
+                    samples.push(sample(target, aimed, &plan, &o, wall_s));
+                }
             }
             Err(e) => {
                 eprintln!("{}, {}, seed {seed}: {e}", target.name, setting.name);
@@ -206,12 +215,11 @@ fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Result<R
 }
 
 /// The figures of one finished run. The reference error is the design's
-/// on `REFERENCE_MESH` against the target the run aimed at (smoothed as
-/// the run smoothed it); a drawn target's clean error is that simulation's
-/// against the clean curve it was drawn from.
-fn sample(target: &Target, plan: &Plan, o: &DesignOutcome, wall_s: f64) -> Result<Sample> {
+/// on `REFERENCE_MESH` against `aimed`, the target the run aimed at; a
+/// drawn target's clean error is that simulation's against the clean curve
+/// it was drawn from.
+fn sample(target: &Target, aimed: &Curve, plan: &Plan, o: &DesignOutcome, wall_s: f64) -> Sample {
     let tuning = plan.tuning();
-    let (aimed, _) = prepare(&target.curve, Smoothing::Auto, tuning.kappa_tol)?;
     let on_reference = match o.verified_on == REFERENCE_MESH {
         true => Some(o.simulation.clone()),
         false => simulate(&o.design, &tuning.model(REFERENCE_MESH)).ok(),
@@ -222,17 +230,17 @@ fn sample(target: &Target, plan: &Plan, o: &DesignOutcome, wall_s: f64) -> Resul
             .and_then(|s| shape_error(&s.centreline, curve, SHAPE_SAMPLES).ok())
             .map_or(f64::NAN, |e| e.percent_of_length)
     };
-    Ok(Sample {
+    Sample {
         wall_s,
         evaluations: o.evaluations as f64,
         shape_error_percent: o.metrics.shape_error_percent,
-        reference_error_percent: error_against(&aimed),
+        reference_error_percent: error_against(aimed),
         clean_error_percent: target.clean.as_ref().map_or(f64::NAN, error_against),
         dtw_curvature: o.metrics.dtw_curvature,
         dtw_torsion: o.metrics.dtw_torsion,
         patches: o.design.patches.len() as f64,
         beyond_limits: o.at_limits.iter().filter(|a| a.beyond).count() as f64,
-    })
+    }
 }
 
 /// The reach stage's verdict in a table cell.

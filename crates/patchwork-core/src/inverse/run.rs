@@ -105,6 +105,12 @@ impl<'a> Context<'a> {
         self.observer.progress(&progress);
     }
 
+    /// Reports the start of a stage that has no steps of its own to report,
+    /// with the run's evaluations and best objective so far.
+    pub fn entering(&mut self, stage: Stage, state: &DesignCheckpoint) {
+        self.report(stage, 0, state.evaluations, state.best_objective, 0.0);
+    }
+
     /// Stamps the state with the elapsed time and hands it to the observer.
     pub fn checkpoint(&mut self, state: &mut DesignCheckpoint) {
         state.elapsed_s = self.elapsed_s();

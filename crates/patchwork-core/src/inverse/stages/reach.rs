@@ -13,14 +13,7 @@ pub struct Reach;
 
 impl RunStage for Reach {
     fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
-        let state = &run.state;
-        ctx.report(
-            Stage::Reach,
-            0,
-            state.evaluations,
-            state.best_objective,
-            0.0,
-        );
+        ctx.entering(Stage::Reach, &run.state);
         let setup = &run.setup;
         let bounds = &setup.settings.bounds;
         let table = ReachTable::compute(

@@ -11,14 +11,7 @@ pub struct Verify;
 
 impl RunStage for Verify {
     fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
-        let state = &run.state;
-        ctx.report(
-            Stage::Verify,
-            0,
-            state.evaluations,
-            state.best_objective,
-            0.0,
-        );
+        ctx.entering(Stage::Verify, &run.state);
         let simulation = match run.polished.take() {
             Some(simulation) => simulation,
             None => ctx
