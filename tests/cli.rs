@@ -594,20 +594,26 @@ fn a_gentle_arc_gets_its_patches_from_the_layout_stage() {
         "--json",
     ]));
     let layouts = report["layouts"].as_array().unwrap();
-    assert_eq!(layouts.len(), 2, "{layouts:?}");
     assert_eq!(layouts[0]["patches"], 0);
-    assert_eq!(layouts[1]["chosen"], true, "{layouts:?}");
+    let chosen: Vec<&Value> = layouts.iter().filter(|l| l["chosen"] == true).collect();
+    assert_eq!(chosen.len(), 1, "{layouts:?}");
     let (ksa, added) = (
         layouts[0]["shape_error_percent"].as_f64().unwrap(),
-        layouts[1]["shape_error_percent"].as_f64().unwrap(),
+        chosen[0]["shape_error_percent"].as_f64().unwrap(),
     );
     assert!(added < ksa / 2.0, "{layouts:?}");
     let patches = report["design"]["patches"].as_array().unwrap();
-    assert_eq!(
-        patches.len() as u64,
-        layouts[1]["patches"].as_u64().unwrap()
-    );
+    assert_eq!(patches.len() as u64, chosen[0]["patches"].as_u64().unwrap());
     assert!((report["metrics"]["shape_error_percent"].as_f64().unwrap() - added).abs() < 0.01);
+    // The arc is planar: the added patches are tried planar first, and the
+    // design is planar exactly when that layout won (every Θ then 0).
+    assert_eq!(report["input"]["planar"], true);
+    assert!(layouts[1]["layout"].as_str().unwrap().contains(", planar"));
+    let planar_won = chosen[0]["layout"].as_str().unwrap().contains(", planar");
+    assert_eq!(report["input"]["planar_design"], planar_won, "{layouts:?}");
+    if planar_won {
+        assert!(patches.iter().all(|p| p["theta_deg"] == 0.0), "{patches:?}");
+    }
 }
 
 /// A 90° arc of radius 40 mm (the `arc` preset) written to `dir/arc.csv`
@@ -705,4 +711,51 @@ fn design_checkpoints_and_resumes_from_the_file() {
     // A file that is not a checkpoint is refused in one line.
     std::fs::write(&checkpoint, "{}").unwrap();
     assert_one_line_error(&run("third"), "not a design checkpoint");
+}
+
+/// A planar S gets a planar design: every patch at Θ = 0, on one line of
+/// the tube or the line opposite (half the circumference round), and the
+/// report says the curve was treated as planar.
+#[test]
+fn a_planar_curve_gets_a_planar_design() {
+    let scratch = temp_dir("planar");
+    let curve = scratch.path().join("s.csv");
+    std::fs::write(&curve, patchwork(&["preset", "s_curve"]).stdout).unwrap();
+    let out = scratch.path().join("out");
+    let report = json(&patchwork(&[
+        "design",
+        &curve.to_string_lossy(),
+        "--out",
+        &out.to_string_lossy(),
+        "--fidelity",
+        "draft",
+        "--budget",
+        "30",
+        "--threads",
+        "2",
+        "--json",
+    ]));
+    assert_eq!(report["input"]["planar"], true, "{}", report["input"]);
+    assert_eq!(
+        report["input"]["planar_design"], true,
+        "{}",
+        report["input"]
+    );
+    let patches = report["design"]["patches"].as_array().unwrap();
+    assert!(patches.len() >= 2, "{patches:?}");
+    let half = std::f64::consts::PI * 3.18;
+    let x0 = patches[0]["x_mm"].as_f64().unwrap();
+    for p in patches {
+        assert_eq!(p["theta_deg"], 0.0, "{p}");
+        let off = (p["x_mm"].as_f64().unwrap() - x0).abs();
+        assert!(off < 1e-9 || (off - half).abs() < 1e-9, "{patches:?}");
+    }
+    // Both bends of the S: patches on both lines.
+    assert!(
+        patches
+            .iter()
+            .any(|p| (p["x_mm"].as_f64().unwrap() - x0).abs() > 1.0),
+        "{patches:?}"
+    );
+    assert!(report["metrics"]["shape_error_percent"].as_f64().unwrap() < 2.0);
 }

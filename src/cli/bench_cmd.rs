@@ -1,4 +1,4 @@
-//! `patchwork bench [--suite quick|reference|curves] [--out DIR] [--runs N]`:
+//! `patchwork bench [--suite quick|reference|curves|round-trips] [--out DIR] [--runs N]`:
 //! run time against error. A fixed suite of target curves × fidelity
 //! settings (`bench_suite.rs`), each run with seeds
 //! 1..=N; writes `bench.md` (medians: wall time, evaluations, shape error, DTW
@@ -33,8 +33,9 @@ pub struct BenchArgs {
     #[arg(long)]
     quick: bool,
     /// Which suite: quick, reference (the presets and their variants on the
-    /// reference curves) or curves (curves unlike the references, draft and
-    /// standard).
+    /// reference curves), curves (curves unlike the references, draft and
+    /// standard) or round-trips (simulated random designs, the layout
+    /// unknown).
     #[arg(long, value_enum, default_value = "reference")]
     suite: Suite,
     /// Folder for bench.md and bench.svg.
@@ -123,6 +124,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         Suite::Quick => " --quick",
         Suite::Reference => "",
         Suite::Curves => " --suite curves",
+        Suite::RoundTrips => " --suite round-trips",
     };
     let mut command = format!(
         "patchwork bench{suite_flag} --runs {} --threads {}",

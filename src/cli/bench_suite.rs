@@ -4,7 +4,9 @@
 
 use anyhow::Result;
 use patchwork_core::curve::{Curve, Point, Preset};
-use patchwork_core::inverse::{Fidelity, TuningOverrides};
+use patchwork_core::design::random::{round_trip_designs, trains};
+use patchwork_core::fe::simulate;
+use patchwork_core::inverse::{Fidelity, Plan, TuningOverrides, UserSettings};
 use serde_json::json;
 
 /// Which suite a bench runs.
@@ -19,6 +21,10 @@ pub enum Suite {
     /// without a kink, grasps, a hook, a knot, hand-drawn input) and the
     /// references, under draft and standard as users get them.
     Curves,
+    /// Round trips with an unknown layout: ten seeded random feasible
+    /// designs of 4–12 patches (lone patches and graded trains), simulated,
+    /// then designed from the centreline alone under draft and standard.
+    RoundTrips,
 }
 
 /// The suite's target curves, by name.
@@ -63,6 +69,8 @@ pub struct Setting {
     pub trains: bool,
     /// Try patches on gentle bends after the refine (off: KSA's layout).
     pub gentle_bends: bool,
+    /// A planar target gets a planar design (off: X and Θ free).
+    pub planar_designs: bool,
     /// KSA's curvature tolerance (mm⁻¹) instead of the preset's.
     pub kappa_tol: Option<f64>,
 }
@@ -78,6 +86,7 @@ impl Setting {
             correction: true,
             trains: true,
             gentle_bends: true,
+            planar_designs: true,
             kappa_tol: None,
         }
     }
@@ -95,6 +104,7 @@ impl Setting {
             correction: Some(self.correction),
             trains: Some(self.trains),
             gentle_bends: Some(self.gentle_bends),
+            planar_designs: Some(self.planar_designs),
             kappa_tol: self.kappa_tol,
             ..TuningOverrides::default()
         }
@@ -107,6 +117,7 @@ pub fn suite(suite: Suite) -> Result<(Targets, Vec<Setting>)> {
         Suite::Quick => quick(),
         Suite::Reference => reference(),
         Suite::Curves => any_curve(),
+        Suite::RoundTrips => round_trips(),
     }
 }
 
@@ -260,12 +271,50 @@ fn any_curve() -> Result<(Targets, Vec<Setting>)> {
             ..Setting::preset("draft without gentle bends", Fidelity::Draft)
         },
         Setting {
+            planar_designs: false,
+            ..Setting::preset("draft without planar designs", Fidelity::Draft)
+        },
+        Setting {
             kappa_tol: Some(0.004),
             ..Setting::preset("draft κ_tol 0.004", Fidelity::Draft)
         },
         Setting::preset("standard", Fidelity::Standard),
     ];
     Ok((curves, settings))
+}
+
+/// The seed of the round trips' designs.
+const ROUND_TRIP_SEED: u64 = 2027;
+
+/// Ten seeded random designs, each simulated on draft's finest model (the
+/// one its correction refines on); the centreline is the target, named by
+/// the true layout ("trip 3: 9 patches, 5+1+3").
+fn round_trips() -> Result<(Targets, Vec<Setting>)> {
+    let draft = Plan::resolve(
+        UserSettings {
+            fidelity: Fidelity::Draft,
+            ..UserSettings::default()
+        },
+        &TuningOverrides::default(),
+    )?;
+    let tuning = draft.tuning();
+    let model = tuning.model(tuning.correction_mesh.unwrap_or(tuning.verify_mesh));
+    let mut curves = Vec::new();
+    for (i, truth) in round_trip_designs(10, ROUND_TRIP_SEED).iter().enumerate() {
+        let centreline = simulate(truth, &model)?.centreline;
+        let name = format!(
+            "trip {}: {} patches, {}",
+            i + 1,
+            truth.patches.len(),
+            trains(&truth.patches)
+        );
+        curves.push((name, centreline));
+    }
+    let settings = vec![
+        Setting::preset("draft", Fidelity::Draft),
+        Setting::preset("standard", Fidelity::Standard),
+    ];
+    Ok((targets(curves), settings))
 }
 
 /// A curve as a hand draws it: a smooth stroke (a few slow harmonics, planar

@@ -115,7 +115,7 @@ pub struct DesignArgs {
     /// Expert tuning as JSON (a file, `-` for stdin, or inline `{…}`), laid over the fidelity
     /// preset: search_patience, initial_step, start, warm_starts, objective,
     /// uniform_mesh_mm, polish_budget, refine_budget, correction,
-    /// final_refine, trains, kappa_tol. The flags above win over it.
+    /// final_refine, trains, gentle_bends, planar_designs, kappa_tol. The flags above win over it.
     #[arg(long)]
     tuning: Option<String>,
     /// Write the run's state here after every generation; if the file exists,

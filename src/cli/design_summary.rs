@@ -92,7 +92,11 @@ fn input_line(input: &InputReport) -> String {
         (false, true) => "as given (no noise found)".to_string(),
         (false, false) => "as given (--smooth-mm 0)".to_string(),
     };
-    let planar = if input.planar { "; planar" } else { "" };
+    let planar = match (input.planar, input.planar_design) {
+        (true, true) => "; planar: a planar design (patches at Θ = 0 on one line and its opposite)",
+        (true, false) => "; planar",
+        (false, _) => "",
+    };
     format!("input:        {smoothing}{planar}\n")
 }
 

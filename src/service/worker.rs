@@ -8,6 +8,7 @@ use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
+use patchwork_core::inverse::reach::ReachReport;
 use patchwork_core::inverse::{
     DesignCheckpoint, DesignProgress, DesignReport, DesignRunError, Observer, Stage,
     design_resumable,
@@ -25,10 +26,12 @@ use patchwork_core::fabrication::design_files;
 enum Message {
     Progress(DesignProgress),
     Checkpoint(String),
+    /// The reach report, as JSON.
+    Reach(serde_json::Value),
 }
 
-/// The run's observer: every progress report and checkpoint goes to the
-/// async side, which records them in order.
+/// The run's observer: every progress report, checkpoint and the reach
+/// report go to the async side, which records them in order.
 struct ChannelObserver(mpsc::UnboundedSender<Message>);
 
 impl Observer for ChannelObserver {
@@ -39,6 +42,12 @@ impl Observer for ChannelObserver {
     fn checkpoint(&mut self, checkpoint: &DesignCheckpoint) {
         if let Ok(text) = serde_json::to_string(checkpoint) {
             let _ = self.0.send(Message::Checkpoint(text));
+        }
+    }
+
+    fn reach(&mut self, report: &ReachReport) {
+        if let Ok(value) = serde_json::to_value(report) {
+            let _ = self.0.send(Message::Reach(value));
         }
     }
 }
@@ -217,6 +226,7 @@ async fn record(
 ) -> Result<(), sqlx::Error> {
     match message {
         Message::Checkpoint(text) => state.store.save_checkpoint(id, &text).await,
+        Message::Reach(report) => state.emit(id, "reach", &report).await,
         Message::Progress(p) => {
             if *last_stage != Some(p.stage) {
                 *last_stage = Some(p.stage);

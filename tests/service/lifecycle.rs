@@ -43,6 +43,12 @@ async fn a_job_runs_to_done_and_its_files_download() {
     for e in events.iter().filter(|e| e.kind == "progress") {
         assert_schema("Progress", &e.data);
     }
+    // The reach report arrives once, before the search's first generation.
+    let position = |kind: &str| events.iter().position(|e| e.kind == kind);
+    let reach = position("reach").expect("a reach event");
+    assert!(reach < position("progress").unwrap(), "{kinds:?}");
+    assert_eq!(kinds.iter().filter(|k| **k == "reach").count(), 1);
+    assert_schema("ReachReport", &events[reach].data);
 
     let job = api.job(id).await;
     assert_schema("Job", &job);

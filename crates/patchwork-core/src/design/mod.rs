@@ -2,6 +2,7 @@
 //! `patches` defaults to the authors' reference scene (DESIGN.md).
 
 mod patch;
+pub mod random;
 mod validate;
 
 use serde::{Deserialize, Serialize};

@@ -48,6 +48,10 @@ pub struct InputReport {
     /// Whether the target lies in a plane (within 0.1 % of its length, or
     /// the noise found, RMS).
     pub planar: bool,
+    /// Whether the design was kept planar: patches at Θ = 0 on one line of
+    /// the tube and the line opposite (`planar.rs`).
+    #[serde(default)]
+    pub planar_design: bool,
 }
 
 /// The target the design aims at, and what was done to get it.
@@ -76,6 +80,7 @@ pub fn prepare(
         smoothing_mm: sigma,
         automatic,
         planar: is_planar(&prepared, noise),
+        planar_design: false,
     };
     Ok((prepared, report))
 }

@@ -27,6 +27,7 @@ pub mod limits;
 pub mod objective;
 mod outcome;
 mod plan;
+pub mod planar;
 mod presets;
 pub mod reach;
 mod refine;

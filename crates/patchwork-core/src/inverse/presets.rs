@@ -170,6 +170,7 @@ impl Fidelity {
             }),
             trains: true,
             gentle_bends: true,
+            planar_designs: true,
             ..Tuning::default()
         }
     }

@@ -14,24 +14,31 @@ use super::input::InputReport;
 use super::layout::LayoutTrial;
 use super::objective::TargetProfiles;
 use super::outcome::{DesignProgress, RefineSummary, SearchEnd, Stage};
+use super::planar::flattened;
 use super::reach::ReachReport;
 use super::settings::UserSettings;
 use super::tuning::Tuning;
-use super::variables::{DesignSpace, VariableBounds};
+use super::variables::{DesignSpace, Freedom, VariableBounds};
 use crate::cmaes::Termination;
 use crate::curve::Curve;
-use crate::design::Design;
+use crate::design::{Design, Patch};
 use crate::fe::mesh::MeshSpec;
 use crate::fe::{SimulateOptions, Simulation};
 
-/// How a caller watches a run: progress of every stage and generation, and
-/// a checkpoint after the seed and after every search generation. Any
-/// `FnMut(&DesignProgress)` is an observer that ignores checkpoints.
+/// How a caller watches a run: progress of every stage and generation, a
+/// checkpoint after the seed and after every search generation, and the
+/// reach report before the search. Any `FnMut(&DesignProgress)` is an
+/// observer that hears only the progress.
 pub trait Observer {
     fn progress(&mut self, progress: &DesignProgress);
 
     fn checkpoint(&mut self, checkpoint: &DesignCheckpoint) {
         let _ = checkpoint;
+    }
+
+    /// What the balloon can make against the target, as soon as it is known.
+    fn reach(&mut self, report: &ReachReport) {
+        let _ = report;
     }
 }
 
@@ -111,6 +118,11 @@ impl<'a> Context<'a> {
         self.report(stage, 0, state.evaluations, state.best_objective, 0.0);
     }
 
+    /// Hands the reach report to the observer.
+    pub fn report_reach(&mut self, report: &ReachReport) {
+        self.observer.reach(report);
+    }
+
     /// Stamps the state with the elapsed time and hands it to the observer.
     pub fn checkpoint(&mut self, state: &mut DesignCheckpoint) {
         state.elapsed_s = self.elapsed_s();
@@ -127,23 +139,45 @@ pub struct Setup<'a> {
     pub input: InputReport,
     pub settings: &'a UserSettings,
     pub tuning: &'a Tuning,
+    /// The variables the search and the refines may change: the user's,
+    /// less X and Θ for a planar design.
+    pub freedom: Freedom,
     pub profiles: TargetProfiles,
     pub search_model: SimulateOptions,
     pub verify_model: SimulateOptions,
 }
 
 impl<'a> Setup<'a> {
+    /// `patches` as this run's design has them: flattened for a planar
+    /// design, as they are otherwise.
+    pub fn laid_out(&self, patches: Vec<Patch>, circumference: f64) -> Vec<Patch> {
+        match self.input.planar_design {
+            true => flattened(&patches, circumference),
+            false => patches,
+        }
+    }
+
     pub fn new(
         target: &'a Curve,
-        input: InputReport,
+        mut input: InputReport,
         settings: &'a UserSettings,
         tuning: &'a Tuning,
     ) -> Setup<'a> {
+        input.planar_design = input.planar && tuning.planar_designs;
+        let freedom = match input.planar_design {
+            true => Freedom {
+                x: false,
+                theta: false,
+                ..settings.freedom
+            },
+            false => settings.freedom,
+        };
         Setup {
             target,
             input,
             settings,
             tuning,
+            freedom,
             profiles: TargetProfiles::new(target, tuning.rings, &tuning.objective),
             search_model: tuning.model(tuning.search_mesh),
             verify_model: tuning.model(tuning.verify_mesh),

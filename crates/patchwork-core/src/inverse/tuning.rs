@@ -50,6 +50,10 @@ pub struct Tuning {
     /// target bends more gently than `kappa_tol` (`layout.rs`), refined
     /// like the design, and keep it if its shape error is lower.
     pub gentle_bends: bool,
+    /// A planar target gets a planar design (`planar.rs`): its patches at
+    /// Θ = 0 on one line of the tube and the line opposite, X and Θ kept
+    /// fixed by the search and the refines.
+    pub planar_designs: bool,
     /// Evaluations of a CMA-ES polish on the verification model after the
     /// search (0 or 1: none). Not checkpointed: a resumed run repeats it.
     pub polish_budget: usize,
@@ -82,6 +86,7 @@ impl Default for Tuning {
             width_mm: 1.5,
             trains: false,
             gentle_bends: false,
+            planar_designs: false,
             polish_budget: 0,
             refine_budget: 0,
             correction_mesh: None,
@@ -167,6 +172,8 @@ pub struct TuningOverrides {
     pub trains: Option<bool>,
     /// Whether the layout with patches on gentle bends is tried.
     pub gentle_bends: Option<bool>,
+    /// Whether a planar target gets a planar design.
+    pub planar_designs: Option<bool>,
     /// KSA's curvature tolerance (mm⁻¹): bends gentler than this get no patch.
     pub kappa_tol: Option<f64>,
 }
@@ -194,6 +201,7 @@ impl TuningOverrides {
         tuning.objective = self.objective.unwrap_or(tuning.objective);
         tuning.trains = self.trains.unwrap_or(tuning.trains);
         tuning.gentle_bends = self.gentle_bends.unwrap_or(tuning.gentle_bends);
+        tuning.planar_designs = self.planar_designs.unwrap_or(tuning.planar_designs);
         tuning.kappa_tol = self.kappa_tol.unwrap_or(tuning.kappa_tol);
         if self.correction == Some(false) {
             tuning.correction_mesh = None;

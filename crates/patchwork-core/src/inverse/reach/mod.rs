@@ -2,6 +2,7 @@
 //! model), and where a target asks for more (`verdict.rs`).
 
 mod helix;
+mod measure;
 mod table;
 mod verdict;
 

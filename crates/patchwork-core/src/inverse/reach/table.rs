@@ -20,6 +20,7 @@ use crate::fe::{SimulateError, SimulateOptions, Simulation};
 use super::super::caches::Caches;
 use super::super::variables::VariableBounds;
 use super::helix::HelixFit;
+use super::measure::{analysed, bends};
 
 /// Patch angles of the table (degrees, up to the bounds' limit).
 const ANGLES_DEG: [f64; 7] = [0.0, 10.0, 20.0, 30.0, 45.0, 60.0, 75.0];
@@ -38,6 +39,28 @@ pub struct PatchResponse {
     /// Twist per unit inflated length (mm⁻¹, signed: positive is
     /// right-handed).
     pub torsion_per_mm: f64,
+    /// The tightest bend per length over a window of the shortest patch
+    /// length (`h_min_mm`) anywhere along the patch, measured as the
+    /// verdict measures targets (`measure.rs`): an inclined patch bends
+    /// the tube unevenly, most near its ends (at 30° about 1.3 times its
+    /// middle's helix, at 45° 1.8 times), so the windows of a centreline
+    /// it makes reach this, not `curvature_per_mm`.
+    #[serde(default)]
+    pub peak_curvature_per_mm: f64,
+}
+
+impl PatchResponse {
+    /// (κ, |τ|) at the peak bend, with the middle helix's twist per bend.
+    pub fn peak(&self) -> (f64, f64) {
+        let (bend, twist) = (self.curvature_per_mm, self.torsion_per_mm.abs());
+        match self.peak_curvature_per_mm > bend && bend > 0.0 {
+            true => (
+                self.peak_curvature_per_mm,
+                twist * self.peak_curvature_per_mm / bend,
+            ),
+            false => (bend, twist),
+        }
+    }
 }
 
 /// The bend and twist one patch makes, for each width and angle of a grid
@@ -77,6 +100,8 @@ impl ReachTable {
                             theta_deg: theta,
                             curvature_per_mm: curvature,
                             torsion_per_mm: torsion,
+                            peak_curvature_per_mm: peak_bend(&design, &simulation, bounds.h_min_mm)
+                                .max(curvature),
                         });
                     }
                     Err(error) => last_error = Some(error),
@@ -157,6 +182,26 @@ fn middle_helix(design: &Design, simulation: &Simulation) -> (f64, f64) {
     };
     let analysis = analyse(&centreline, &AnalysisOptions::default());
     HelixFit::new(&analysis).between(a - from, b - from)
+}
+
+/// The largest bend per length over windows of `bend_mm` centred within
+/// the patch's inflated axial extent, on the simulation's centreline (the
+/// one targets are compared with).
+fn peak_bend(design: &Design, simulation: &Simulation, bend_mm: f64) -> f64 {
+    let patch = &design.patches[0];
+    let theta = patch.theta_deg.to_radians();
+    let axial = patch.h_mm * theta.cos() + patch.w_mm * theta.sin();
+    let centreline = &simulation.centreline;
+    let stretch = centreline.length() / design.balloon.length_mm;
+    let middle = 0.5 * centreline.length();
+    let half = 0.5 * axial * stretch;
+    let analysis = analysed(centreline, bend_mm);
+    bends(&analysis, bend_mm)
+        .into_iter()
+        .zip(&analysis.s)
+        .filter(|(_, s)| (**s - middle).abs() <= half)
+        .map(|(bend, _)| bend)
+        .fold(0.0, f64::max)
 }
 
 fn ring_nodes(simulation: &Simulation, ring: usize) -> std::ops::Range<usize> {

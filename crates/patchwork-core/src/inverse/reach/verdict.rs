@@ -13,7 +13,9 @@
 //! bend starts). On a plane curve q = 0.
 //!
 //! For each width the table's entries, by angle, trace a path (κ(Θ), |τ(Θ)|),
-//! linear between entries; a narrower or shorter patch or a gap makes less
+//! linear between entries, each entry at its peak bend over the bend
+//! window (measured on its centreline as targets are) and its helix's twist
+//! per bend; a narrower or shorter patch or a gap makes less
 //! of both in proportion, so the reachable set of the (κ, |τ|) plane is the
 //! union of the segments from 0 to the paths' points. At twist per bend q
 //! the tightest bend κ(q) is the farthest crossing of the ray τ = qκ with
@@ -22,9 +24,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::helix::{HelixFit, window};
+use super::helix::HelixFit;
+use super::measure::{analysed, bends};
 use super::table::ReachTable;
-use crate::curve::{AnalysisOptions, Curve, analyse};
+use crate::curve::Curve;
 
 /// How far beyond the table a window must be to be reported (the table is
 /// one model's, and the design has freedoms it does not).
@@ -35,9 +38,6 @@ const TWIST_ROUNDING: f64 = 1e-6;
 
 /// Windows closer than this (mm of arc) are reported as one span.
 const JOIN_MM: f64 = 5.0;
-
-/// The most target samples analysed.
-const MAX_SAMPLES: usize = 8000;
 
 /// A stretch of the target beyond every patch the bounds allow.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -99,11 +99,7 @@ impl Envelope {
         });
         let paths = entries
             .chunk_by(|a, b| a.width_mm == b.width_mm)
-            .map(|run| {
-                run.iter()
-                    .map(|e| (e.curvature_per_mm, e.torsion_per_mm.abs()))
-                    .collect()
-            })
+            .map(|run| run.iter().map(|e| e.peak()).collect())
             .collect();
         Envelope { paths }
     }
@@ -175,63 +171,18 @@ pub struct WindowLengths {
 /// The target's windows centred on each sample, where it bends by more
 /// than `kappa_tol`.
 fn windows(target: &Curve, lengths: WindowLengths, kappa_tol: f64) -> Vec<Window> {
-    // Smoothed along its own arc length first: drawing noise makes the raw
-    // polyline longer than the curve it samples.
-    let smooth = target
-        .smoothed(0.25 * lengths.bend_mm)
-        .unwrap_or_else(|_| target.clone());
-    // Analysed as it is (the analysis takes uneven spacing), or resampled
-    // and smoothed by a spacing when it has too many samples: linear
-    // interpolation between samples adds kinks of its own.
-    let fine = match smooth.len() > MAX_SAMPLES {
-        false => smooth,
-        true => {
-            let spacing = smooth.length() / MAX_SAMPLES as f64;
-            let even = smooth.resample(MAX_SAMPLES).unwrap_or(smooth);
-            even.convolved(spacing).unwrap_or(even)
-        }
-    };
-    let analysis = analyse(&fine, &AnalysisOptions::default());
-    let s = &analysis.s;
-    let bend = Prefix::new(s, &analysis.curvature);
+    let analysis = analysed(target, lengths.bend_mm);
     let helix = HelixFit::new(&analysis);
-    (0..s.len())
-        .filter_map(|i| {
-            let (width, turned) = bend.around(s[i], lengths.bend_mm);
-            let curvature = turned / width;
-            (curvature > kappa_tol).then(|| Window {
-                s_mm: s[i],
-                curvature,
-                twist_per_bend: helix.twist_per_bend(s[i], lengths.twist_mm),
-            })
+    bends(&analysis, lengths.bend_mm)
+        .into_iter()
+        .zip(&analysis.s)
+        .filter(|(curvature, _)| *curvature > kappa_tol)
+        .map(|(curvature, &s)| Window {
+            s_mm: s,
+            curvature,
+            twist_per_bend: helix.twist_per_bend(s, lengths.twist_mm),
         })
         .collect()
-}
-
-/// Prefix integrals (trapezoid) of a profile over arc length.
-struct Prefix<'a> {
-    s: &'a [f64],
-    sum: Vec<f64>,
-}
-
-impl<'a> Prefix<'a> {
-    fn new(s: &'a [f64], values: &[f64]) -> Prefix<'a> {
-        let mut sum = vec![0.0; s.len()];
-        for i in 1..s.len() {
-            sum[i] = sum[i - 1] + 0.5 * (s[i] - s[i - 1]) * (values[i] + values[i - 1]);
-        }
-        Prefix { s, sum }
-    }
-
-    /// The window of `length` around `at`: its length and the integral
-    /// over it.
-    fn around(&self, at: f64, length: f64) -> (f64, f64) {
-        let (a, b) = window(self.s, at, length);
-        (
-            (self.s[b] - self.s[a]).max(f64::EPSILON),
-            self.sum[b] - self.sum[a],
-        )
-    }
 }
 
 /// Where `target` is out of the table's reach, judged over windows of
@@ -262,14 +213,24 @@ pub fn judge(
         tightest_bend_radius_mm: 1.0 / tightest,
         most_twist_per_bend: most_twist,
         windows: lengths,
-        out_of_reach: spans(&beyond, most_twist),
+        out_of_reach: spans(&beyond, most_twist, lone_windows_count(target, lengths)),
         table,
     }
 }
 
+/// Whether a span of one window counts: on a curve sampled finely against
+/// the bend window (four samples or more to it) a window's neighbours
+/// overlap it almost wholly, so one window out of reach between two within
+/// it is the fit failing (a helix fitted across an inflection twists
+/// without bound), not the curve.
+fn lone_windows_count(target: &Curve, lengths: WindowLengths) -> bool {
+    let spacing = target.length() / (target.len().max(2) - 1) as f64;
+    spacing > 0.25 * lengths.bend_mm
+}
+
 /// Windows out of reach joined into spans, each described by its
-/// tightest window.
-fn spans(beyond: &[(Window, Option<f64>)], most_twist: f64) -> Vec<OutOfReach> {
+/// tightest window; spans of one window left out unless `lone_counts`.
+fn spans(beyond: &[(Window, Option<f64>)], most_twist: f64, lone_counts: bool) -> Vec<OutOfReach> {
     let mut groups: Vec<Vec<(Window, Option<f64>)>> = Vec::new();
     for &(w, reach) in beyond {
         match groups.last_mut() {
@@ -281,6 +242,7 @@ fn spans(beyond: &[(Window, Option<f64>)], most_twist: f64) -> Vec<OutOfReach> {
     }
     groups
         .iter()
+        .filter(|group| lone_counts || group.len() > 1)
         .map(|group| {
             let (worst, reach) = group
                 .iter()

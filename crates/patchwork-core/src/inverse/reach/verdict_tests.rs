@@ -17,6 +17,7 @@ fn table() -> ReachTable {
         theta_deg: theta,
         curvature_per_mm: k,
         torsion_per_mm: t,
+        peak_curvature_per_mm: k,
     };
     ReachTable {
         patch_length_mm: 30.0,

@@ -1,15 +1,23 @@
 //! The layout stage: after the refine, the layout with patches added where
 //! the target bends more gently than KSA marks (`layout.rs`), refined as
 //! the design was; the one with the lower verified shape error, by more
-//! than `MARGIN`, is kept. Both are reported.
+//! than `MARGIN`, is kept. Every layout tried is reported.
+//!
+//! A planar design's candidate is tried planar first; when that does not
+//! win, again with X and Θ free (inclined patches bend the tube less than
+//! axial ones of the same size, which a gentle bend may need). If the free
+//! one wins the design is no longer planar, and the report says so.
 
 use super::super::errors::DesignRunError;
 use super::super::layout::{LayoutTrial, with_gentle_bends};
+use super::super::planar::flattened;
 use super::super::run::{Context, Run};
+use super::super::variables::Freedom;
 use super::RunStage;
 use super::refine::Refine;
 use super::seed::ksa_params;
 use crate::curve::shape_error;
+use crate::design::Design;
 use crate::fe::Simulation;
 use crate::inverse::objective::SHAPE_SAMPLES;
 
@@ -23,47 +31,78 @@ pub struct Layout {
     pub refine: Refine,
 }
 
+/// A layout to try: what it is, its patches, and what its refine may change.
+struct Candidate {
+    layout: String,
+    design: Design,
+    freedom: Freedom,
+}
+
+/// A candidate refined and verified on the design's mesh.
+struct Tried {
+    design: Design,
+    simulation: Simulation,
+    jacobian: Option<nalgebra::DMatrix<f64>>,
+    error: f64,
+}
+
 impl RunStage for Layout {
     fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
         let current = run.take_verified("layout")?;
         let current_error = error_of(run, &current);
-        let own = LayoutTrial {
+        run.verified = Some(current);
+        run.layouts = vec![LayoutTrial {
             layout: "KSA's (refined)".into(),
             patches: run.design.patches.len(),
             shape_error_percent: current_error,
             chosen: true,
-        };
-        let setup = &run.setup;
-        let candidate = with_gentle_bends(
-            &run.design,
-            setup.target,
-            setup.tuning.kappa_tol,
-            &ksa_params(setup),
-        );
-        let Some(candidate) = candidate else {
-            run.verified = Some(current);
-            run.layouts = vec![own];
-            return Ok(());
-        };
-        let added = candidate.patches.len() - run.design.patches.len();
-        let mut tried = LayoutTrial {
-            layout: format!("{added} more on gentle bends (refined)"),
-            patches: candidate.patches.len(),
-            shape_error_percent: f64::NAN,
-            chosen: false,
-        };
-        let start = match ctx.caches.simulate(&candidate, &setup.verify_model) {
-            Ok(start) => start,
-            Err(_) => {
-                run.verified = Some(current);
-                run.layouts = vec![own, tried];
-                return Ok(());
+        }];
+        for candidate in candidates(run) {
+            let keeps_freedom = candidate.freedom == run.setup.freedom;
+            let mut trial = LayoutTrial {
+                layout: candidate.layout.clone(),
+                patches: candidate.design.patches.len(),
+                shape_error_percent: f64::NAN,
+                chosen: false,
+            };
+            let tried = self.try_layout(run, ctx, candidate)?;
+            trial.shape_error_percent = tried.as_ref().map_or(f64::NAN, |t| t.error);
+            let better = trial.shape_error_percent < (1.0 - MARGIN) * current_error;
+            match (better, tried) {
+                (true, Some(tried)) => {
+                    adopt(run, tried, keeps_freedom);
+                    run.layouts[0].chosen = false;
+                    trial.chosen = true;
+                    run.layouts.push(trial);
+                    break;
+                }
+                _ => run.layouts.push(trial),
             }
+        }
+        Ok(())
+    }
+}
+
+impl Layout {
+    /// `candidate` refined like the design and simulated on the mesh the
+    /// design was verified on; none when its start does not solve.
+    fn try_layout(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+        candidate: Candidate,
+    ) -> Result<Option<Tried>, DesignRunError> {
+        let Ok(start) = ctx
+            .caches
+            .simulate(&candidate.design, &run.setup.verify_model)
+        else {
+            return Ok(None);
         };
         run.state.evaluations += 1;
-        let (refined, solves) = self.refine.refine_from(run, ctx, candidate, start)?;
+        let (refined, solves) =
+            self.refine
+                .refine_from(run, ctx, candidate.design, start, candidate.freedom)?;
         run.state.evaluations += solves;
-        // Compared on the mesh the design was verified on.
         let simulation = match self.refine.verified_on(run, &refined) == run.verified_on {
             true => Some(refined.simulation),
             false => {
@@ -72,28 +111,65 @@ impl RunStage for Layout {
                 ctx.caches.simulate(&refined.design, &model).ok()
             }
         };
-        tried.shape_error_percent = simulation.as_ref().map_or(f64::NAN, |s| error_of(run, s));
-        let better = tried.shape_error_percent < (1.0 - MARGIN) * current_error;
-        match (better, simulation) {
-            (true, Some(simulation)) => {
-                run.design = refined.design;
-                run.verified = Some(simulation);
-                run.jacobian = refined.jacobian;
-                tried.chosen = true;
-                run.layouts = vec![
-                    LayoutTrial {
-                        chosen: false,
-                        ..own
-                    },
-                    tried,
-                ];
-            }
-            _ => {
-                run.verified = Some(current);
-                run.layouts = vec![own, tried];
-            }
-        }
-        Ok(())
+        Ok(simulation.map(|simulation| Tried {
+            error: error_of(run, &simulation),
+            design: refined.design,
+            simulation,
+            jacobian: refined.jacobian,
+        }))
+    }
+}
+
+/// The layouts to try, in order: the design with patches on gentle bends
+/// (planar for a planar design, then free).
+fn candidates(run: &Run<'_>) -> Vec<Candidate> {
+    let setup = &run.setup;
+    let Some(gentle) = with_gentle_bends(
+        &run.design,
+        setup.target,
+        setup.tuning.kappa_tol,
+        &ksa_params(setup),
+    ) else {
+        return vec![];
+    };
+    let added = gentle.patches.len() - run.design.patches.len();
+    let layout = format!("{added} more on gentle bends (refined)");
+    let free = Candidate {
+        layout: layout.clone(),
+        design: gentle.clone(),
+        freedom: setup.settings.freedom,
+    };
+    if !setup.input.planar_design {
+        return vec![free];
+    }
+    let circumference = gentle.balloon.circumference();
+    let planar = Candidate {
+        layout: format!("{added} more on gentle bends, planar (refined)"),
+        design: Design {
+            patches: flattened(&gentle.patches, circumference),
+            ..gentle
+        },
+        freedom: setup.freedom,
+    };
+    vec![
+        planar,
+        Candidate {
+            layout: format!("{added} more on gentle bends, X and Θ free (refined)"),
+            ..free
+        },
+    ]
+}
+
+/// The tried layout as the run's design; one refined with more freedom
+/// than the run's (a planar design's free candidate) ends the design's
+/// planarity, and the final refine then frees X and Θ too.
+fn adopt(run: &mut Run<'_>, tried: Tried, keeps_freedom: bool) {
+    run.design = tried.design;
+    run.verified = Some(tried.simulation);
+    run.jacobian = tried.jacobian;
+    if !keeps_freedom {
+        run.setup.input.planar_design = false;
+        run.setup.freedom = run.setup.settings.freedom;
     }
 }
 

@@ -1,6 +1,7 @@
 //! The reach stage: before the search, what one patch makes within the
 //! bounds (a table from the FE model on the verification mesh, its solves
-//! cached with the run's), and where the target asks for more.
+//! cached with the run's), and where the target asks for more; the report
+//! goes to the observer before the search starts.
 
 use super::super::errors::DesignRunError;
 use super::super::outcome::Stage;
@@ -27,7 +28,9 @@ impl RunStage for Reach {
             bend_mm: bounds.h_min_mm,
             twist_mm: bounds.h_max_mm,
         };
-        run.reach = Some(judge(setup.target, table, lengths, setup.tuning.kappa_tol));
+        let report = judge(setup.target, table, lengths, setup.tuning.kappa_tol);
+        ctx.report_reach(&report);
+        run.reach = Some(report);
         Ok(())
     }
 }

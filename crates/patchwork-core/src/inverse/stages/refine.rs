@@ -11,6 +11,7 @@ use super::super::errors::DesignRunError;
 use super::super::outcome::{RefineSummary, Stage};
 use super::super::refine::{RefineProblem, Refined};
 use super::super::run::{Context, Run};
+use super::super::variables::Freedom;
 use super::RunStage;
 use crate::design::Design;
 use crate::fe::Simulation;
@@ -31,7 +32,8 @@ impl RunStage for Refine {
         }
         let simulation = run.take_verified("refine")?;
         let design = run.design.clone();
-        let (refined, solves) = self.refine_from(run, ctx, design, simulation)?;
+        let freedom = run.setup.freedom;
+        let (refined, solves) = self.refine_from(run, ctx, design, simulation, freedom)?;
         let verified_on = self.verified_on(run, &refined);
         run.verified_on = verified_on;
         run.design = refined.design;
@@ -45,7 +47,7 @@ impl RunStage for Refine {
 
 impl Refine {
     /// The refine from `design` (simulated on the verification model as
-    /// `simulation`), and the solves it spent. A design beyond a
+    /// `simulation`) with `freedom`, and the solves it spent. A design beyond a
     /// fabrication limit (KSA's one long patch, without trains) is brought
     /// within the limits first, so that every design the refine compares,
     /// its start included, is one that can be made.
@@ -55,6 +57,7 @@ impl Refine {
         ctx: &mut Context<'_>,
         mut design: Design,
         mut simulation: Simulation,
+        freedom: Freedom,
     ) -> Result<(Refined, usize), DesignRunError> {
         let mut spent = 0;
         if let Some(inside) = run.setup.settings.bounds.sizes_within(&design) {
@@ -64,7 +67,10 @@ impl Refine {
                 spent += 1;
             }
         }
-        let problem = refine_problem(run, ctx.cancel, ctx.caches);
+        let problem = RefineProblem {
+            freedom,
+            ..refine_problem(run, ctx.cancel, ctx.caches)
+        };
         let before = run.state.evaluations + spent;
         let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);
         let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
@@ -112,7 +118,7 @@ pub(super) fn refine_problem<'r>(
     RefineProblem {
         model: &run.setup.verify_model,
         target: &run.setup.profiles,
-        freedom: run.setup.settings.freedom,
+        freedom: run.setup.freedom,
         bounds: &run.bounds,
         free_length: !run.setup.settings.fix_length,
         correction: None,

@@ -86,7 +86,7 @@ impl Seed {
                 (state, seed_simulation)
             }
         };
-        let space = design_space(&state, settings.freedom, &settings.bounds, tuning.start)?;
+        let space = design_space(&state, setup.freedom, &settings.bounds, tuning.start)?;
         let mut run = Run::new(setup, state, space);
         run.warm_start = warm_start;
         Ok(run)
@@ -162,8 +162,9 @@ fn seeded_balloon(
             seed_patches = ksa_seed(target, &base, length, setup)?;
         }
     }
+    let circumference = base.balloon.circumference();
     let mut seeded = Design {
-        patches: seed_patches,
+        patches: setup.laid_out(seed_patches, circumference),
         ..base
     };
     seeded.balloon.length_mm = length;
