@@ -19,7 +19,7 @@ pub enum Suite {
     Reference,
     /// Curves unlike the references (long bends, spirals, an S with and
     /// without a kink, grasps, a hook, a knot, hand-drawn input) and the
-    /// references, under draft and standard as users get them.
+    /// references, under the three presets as users get them and draft's variants.
     Curves,
     /// Round trips with an unknown layout: ten seeded random feasible
     /// designs of 4–12 patches (lone patches and graded trains), simulated,
@@ -279,6 +279,7 @@ fn any_curve() -> Result<(Targets, Vec<Setting>)> {
             ..Setting::preset("draft κ_tol 0.004", Fidelity::Draft)
         },
         Setting::preset("standard", Fidelity::Standard),
+        Setting::preset("fine", Fidelity::Fine),
     ];
     Ok((curves, settings))
 }
