@@ -42,7 +42,7 @@ pub struct DesignArgs {
     /// verification model after the search (default 0: the refine does the
     /// job better; on ten round trips with draft, `--polish 120` reached a
     /// median 0.28 % shape error with 9 of 10 under 0.5 %, a 60-solve refine
-    /// 0.06 % with 10 of 10 in a quarter of the time, see BENCHMARKS.md).
+    /// 0.06 % with 10 of 10 in a quarter of the time).
     #[arg(long)]
     polish: Option<usize>,
     /// Solves of the refine: Levenberg–Marquardt on the shape error on the

@@ -1,7 +1,6 @@
 //! Where a preset's time goes and what its error is on the common reference
 //! model (uniform 0.5 mm), for one reference curve, seed by seed: the study
-//! behind the presets' search budgets and refine settings (BENCHMARKS.md,
-//! "Run time against error").
+//! behind the presets' search budgets and refine settings.
 //!
 //! `cargo run --release -p patchwork-core --example preset_study -- [key=value ...]`
 //!

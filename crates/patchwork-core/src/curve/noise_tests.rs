@@ -40,3 +40,44 @@ fn the_smoothing_chosen_brings_curvature_noise_down_to_what_was_asked() {
     assert!((mean - 0.0454).abs() < 0.0454 * 0.05, "{mean}");
     assert!(sd < 0.003, "{sd}");
 }
+
+/// A helix of radius 25 mm sampled 10 mm apart: the cubic's residual there
+/// is geometry (of the order of noise of a few tenths of a millimetre).
+fn coarse_helix() -> Curve {
+    Preset::helix(25.0, 60.0, 4.0).generate(72).unwrap()
+}
+
+#[test]
+fn a_coarsely_sampled_curve_is_not_read_as_noisy() {
+    let helix = coarse_helix();
+    let spacing = helix.length() / 71.0;
+    assert!(spacing > 9.0, "{spacing}");
+    assert!(helix.residual_scale(1).unwrap() > 0.1);
+    let noise = helix.noise_estimate();
+    assert!(noise < 0.01, "{noise}");
+}
+
+#[test]
+fn noise_on_a_coarser_curve_is_found_and_never_overestimated() {
+    // 150 samples 4.5 mm apart: the bends leave a residual of 0.01 mm, and
+    // noise of 0.3 mm is found; at 72 samples 9.5 mm apart the bends
+    // dominate and the noise is underestimated (smoothed less), not more.
+    let clean = Preset::helix(25.0, 60.0, 4.0).generate(150).unwrap();
+    let noisy = clean.with_noise(0.3 / clean.length(), 3).unwrap();
+    let found = noisy.noise_estimate();
+    assert!((found / 0.3 - 1.0).abs() < 0.15, "{found}");
+    let clean = coarse_helix();
+    for sigma in [0.1, 0.5, 2.0] {
+        let found = clean
+            .with_noise(sigma / clean.length(), 3)
+            .unwrap()
+            .noise_estimate();
+        assert!(found < sigma * 1.15, "{sigma}: {found}");
+    }
+}
+
+#[test]
+fn too_few_samples_to_tell_noise_from_bends_read_as_none() {
+    let short = Preset::helix(20.0, 40.0, 1.0).generate(13).unwrap();
+    assert_eq!(short.noise_estimate(), 0.0);
+}

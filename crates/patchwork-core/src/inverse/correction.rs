@@ -30,7 +30,8 @@
 //! bending plane, which no aligned shape error sees) that fit the offsets
 //! instead of the target — in a one-patch round trip (2 mm model, 1 mm
 //! correction) X moved by 46° and the finer model's error rose 0.32 → 0.49 %.
-//! Measured on the Hilbert curve (draft, BENCHMARKS.md, medians of three):
+//! Measured on the Hilbert curve (draft, medians of three; `preset_study --
+//! correction=none` against the preset):
 //! 0.33 % → 0.13 % on the uniform 0.5 mm model for four graded 0.5 mm
 //! solves of 1–2.5 s (three rounds; with two, 0.14 %). The rounds share
 //! one Jacobian: the correction is a constant, so it does not change the
@@ -200,7 +201,7 @@ fn add_round(totals: &mut RefineSummary, round: &RefineSummary) {
 /// and the spring every round moves the centreline by more than the gap
 /// (19–375 mm), and the rule keeps the carried state, from which the
 /// spring's solves take 14 iterations against 49–62 from its last finer
-/// state (BENCHMARKS.md).
+/// state (`preset_study -- curve=spring`).
 fn nearest_start<'a>(
     finer: &'a Simulation,
     coarse_before: &Curve,
