@@ -264,6 +264,29 @@ fn temp_dir(name: &str) -> tempfile::TempDir {
         .unwrap()
 }
 
+/// `simulate` with no mesh flags is within 1 % of membrane theory on the
+/// bare reference tube at 20 kPa (hoop 2.79206, axial 1.97843 from the
+/// closed form of `fe_tube_theory`); `--mesh-mm 2` alone, a uniform 2 mm
+/// mesh, is not (its 10-sided section).
+#[test]
+fn simulate_defaults_to_a_mesh_within_one_percent_of_theory() {
+    let (hoop, axial) = (2.79206, 1.97843);
+    let bare = r#"{"patches": []}"#;
+    let report = json(&patchwork_with_stdin(&["simulate", "-", "--json"], bare));
+    let hoop_error = (report["hoop_stretch_mid"].as_f64().unwrap() / hoop - 1.0).abs();
+    let axial_error = (report["axial_stretch_mid"].as_f64().unwrap() / axial - 1.0).abs();
+    assert!(
+        hoop_error < 0.01 && axial_error < 0.01,
+        "{hoop_error} {axial_error}"
+    );
+    let coarse = json(&patchwork_with_stdin(
+        &["simulate", "-", "--json", "--mesh-mm", "2"],
+        bare,
+    ));
+    let coarse_error = (coarse["hoop_stretch_mid"].as_f64().unwrap() / hoop - 1.0).abs();
+    assert!(coarse_error > 0.03, "{coarse_error}");
+}
+
 #[test]
 fn simulate_json_has_the_contract_fields_and_files() {
     let design = r#"{"balloon": {"length_mm": 100}, "patches": [{"x_mm": 0, "y_mm": 50, "h_mm": 20, "w_mm": 3, "theta_deg": 0}]}"#;

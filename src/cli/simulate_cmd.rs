@@ -1,4 +1,4 @@
-//! `patchwork simulate DESIGN.json [--json] [--mesh-mm 2] [--straight-mm S] [--rings 72]
+//! `patchwork simulate DESIGN.json [--json] [--mesh-mm M] [--straight-mm S] [--rings 72]
 //! [--cut-elements laminate|average] [--out DIR]`.
 
 use std::path::PathBuf;
@@ -23,11 +23,15 @@ pub struct SimulateArgs {
     /// Print the result as JSON.
     #[arg(long)]
     json: bool,
-    /// Element size (mm).
-    #[arg(long, default_value_t = 2.0)]
-    mesh_mm: f64,
-    /// Axial element size along bare stretches (mm): refine only where patches
-    /// are and at the ends (local refinement); omitted, the mesh is uniform.
+    /// Element size (mm) [default: 0.5 under patches and at the ends, 4 along
+    /// bare stretches: the model designs are verified on, within 0.3 % of
+    /// membrane theory]. Given alone, the mesh is uniform: 1 mm is 0.9 % off
+    /// theory in hoop stretch, 2 mm 3.9 % and moves a patch's bend by up to
+    /// 10 % with its position on the mesh.
+    #[arg(long)]
+    mesh_mm: Option<f64>,
+    /// Axial element size along bare stretches (mm), with `--mesh-mm` only
+    /// where patches are and at the ends (local refinement).
     #[arg(long)]
     straight_mm: Option<f64>,
     /// Cross-section rings for the centreline.
@@ -49,11 +53,15 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let text = super::input::read_text_argument(&args.design)?;
     let design: Design = serde_json::from_str(&text)
         .with_context(|| format!("{}: invalid design JSON", args.design))?;
-    let options = SimulateOptions {
-        mesh: MeshSpec {
-            straight_mm: args.straight_mm,
-            ..MeshSpec::uniform(args.mesh_mm)
+    let mesh = match (args.mesh_mm, args.straight_mm) {
+        (None, None) => MeshSpec::default_simulation(),
+        (mesh_mm, straight_mm) => MeshSpec {
+            straight_mm,
+            ..MeshSpec::uniform(mesh_mm.unwrap_or(MeshSpec::default_simulation().element_mm))
         },
+    };
+    let options = SimulateOptions {
+        mesh,
         rings: args.rings,
         cut_elements: args.cut_elements,
         ..SimulateOptions::default()

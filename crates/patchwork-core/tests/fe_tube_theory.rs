@@ -227,6 +227,21 @@ fn reference_scene_bare_tube_at_20_kpa() {
     );
     assert!((sim.hoop_stretch_mid - hoop).abs() / hoop < 0.01);
     assert!((sim.axial_stretch_mid - axial_expected).abs() / axial_expected < 0.01);
+    // The mesh a design is simulated on by default is as close.
+    let default = simulate(
+        &design,
+        &SimulateOptions {
+            mesh: MeshSpec::default_simulation(),
+            ..SimulateOptions::default()
+        },
+    )
+    .unwrap();
+    println!(
+        "default mesh: hoop FE {:.5}, axial FE {:.5}",
+        default.hoop_stretch_mid, default.axial_stretch_mid
+    );
+    assert!((default.hoop_stretch_mid - hoop).abs() / hoop < 0.01);
+    assert!((default.axial_stretch_mid - axial_expected).abs() / axial_expected < 0.01);
     // The core's own closed form (used as Newton's start) agrees with this one.
     assert!(
         (sim.tube_state.hoop - hoop).abs() < 1e-4
