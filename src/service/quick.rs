@@ -107,10 +107,12 @@ pub async fn ksa_route(ApiJson(body): ApiJson<KsaRequest>) -> Result<Json<KsaRep
 #[serde(deny_unknown_fields)]
 pub struct SimulateRequest {
     design: Design,
-    #[serde(default = "default_mesh")]
-    mesh_mm: f64,
-    /// Axial element size along bare stretches (local refinement); absent:
-    /// uniform.
+    /// Element size (mm); absent with `straight_mm`: the model designs are
+    /// verified on ([`MeshSpec::default_simulation`]).
+    #[serde(default)]
+    mesh_mm: Option<f64>,
+    /// Axial element size along bare stretches (local refinement); absent
+    /// with `mesh_mm` given: uniform.
     #[serde(default)]
     straight_mm: Option<f64>,
     #[serde(default = "default_rings")]
@@ -120,9 +122,6 @@ pub struct SimulateRequest {
     cut_elements: CutElements,
 }
 
-fn default_mesh() -> f64 {
-    2.0
-}
 fn default_rings() -> usize {
     72
 }
@@ -135,14 +134,24 @@ pub async fn simulate_route(
     ApiJson(body): ApiJson<SimulateRequest>,
 ) -> Result<Json<SimulateReport>, Problem> {
     validate_design(&body.design, "design")?;
-    if !(body.mesh_mm.is_finite() && body.mesh_mm >= MIN_SYNC_MESH_MM && body.mesh_mm <= 20.0) {
+    let mesh = match (body.mesh_mm, body.straight_mm) {
+        (None, None) => MeshSpec::default_simulation(),
+        (mesh_mm, straight_mm) => MeshSpec {
+            straight_mm,
+            ..MeshSpec::uniform(mesh_mm.unwrap_or(MeshSpec::default_simulation().element_mm))
+        },
+    };
+    if !(mesh.element_mm.is_finite()
+        && mesh.element_mm >= MIN_SYNC_MESH_MM
+        && mesh.element_mm <= 20.0)
+    {
         return Err(Problem::invalid(
             "mesh_mm",
             format!("mesh_mm must be between {MIN_SYNC_MESH_MM} and 20 mm"),
         ));
     }
-    if let Some(straight) = body.straight_mm
-        && !MeshSpec::straight_fits(body.mesh_mm, straight)
+    if let Some(straight) = mesh.straight_mm
+        && !MeshSpec::straight_fits(mesh.element_mm, straight)
     {
         return Err(Problem::invalid(
             "straight_mm",
@@ -157,10 +166,7 @@ pub async fn simulate_route(
     }
     let cap = state.config.simulate_time_limit;
     let mut options = SimulateOptions {
-        mesh: MeshSpec {
-            straight_mm: body.straight_mm,
-            ..MeshSpec::uniform(body.mesh_mm)
-        },
+        mesh,
         rings: body.rings,
         cut_elements: body.cut_elements,
         ..SimulateOptions::default()

@@ -318,6 +318,16 @@ async fn quick_looks_and_operations_routes() {
     let sim: Value = response.json().await.unwrap();
     assert_schema("SimulateReport", &sim);
     assert_eq!(sim["converged"], true);
+    // No mesh given: the model designs are verified on, within 1 % of
+    // membrane theory on the bare reference tube (hoop 2.79206).
+    let bare: Value = api
+        .post("/v1/simulate", &json!({"design": {"patches": []}}))
+        .await
+        .json()
+        .await
+        .unwrap();
+    let hoop = bare["hoop_stretch_mid"].as_f64().unwrap();
+    assert!((hoop / 2.79206 - 1.0).abs() < 0.01, "{hoop}");
 
     let presets: Value = api.get("/v1/presets").await.json().await.unwrap();
     assert_schema("PresetList", &presets);
@@ -333,7 +343,7 @@ async fn quick_looks_and_operations_routes() {
         "patchwork_queue_depth 0",
         "patchwork_jobs{status=\"queued\"}",
         "patchwork_evaluations_total",
-        "patchwork_simulate_seconds_count 1",
+        "patchwork_simulate_seconds_count 2",
     ] {
         assert!(metrics.contains(name), "{name} missing from\n{metrics}");
     }
