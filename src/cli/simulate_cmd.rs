@@ -53,15 +53,8 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let text = super::input::read_text_argument(&args.design)?;
     let design: Design = serde_json::from_str(&text)
         .with_context(|| format!("{}: invalid design JSON", args.design))?;
-    let mesh = match (args.mesh_mm, args.straight_mm) {
-        (None, None) => MeshSpec::default_simulation(),
-        (mesh_mm, straight_mm) => MeshSpec {
-            straight_mm,
-            ..MeshSpec::uniform(mesh_mm.unwrap_or(MeshSpec::default_simulation().element_mm))
-        },
-    };
     let options = SimulateOptions {
-        mesh,
+        mesh: MeshSpec::from_options(args.mesh_mm, args.straight_mm),
         rings: args.rings,
         cut_elements: args.cut_elements,
         ..SimulateOptions::default()

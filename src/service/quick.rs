@@ -107,12 +107,11 @@ pub async fn ksa_route(ApiJson(body): ApiJson<KsaRequest>) -> Result<Json<KsaRep
 #[serde(deny_unknown_fields)]
 pub struct SimulateRequest {
     design: Design,
-    /// Element size (mm); absent with `straight_mm`: the model designs are
-    /// verified on ([`MeshSpec::default_simulation`]).
+    /// Element size (mm); with `straight_mm` as in
+    /// [`MeshSpec::from_options`].
     #[serde(default)]
     mesh_mm: Option<f64>,
-    /// Axial element size along bare stretches (local refinement); absent
-    /// with `mesh_mm` given: uniform.
+    /// Axial element size along bare stretches (local refinement).
     #[serde(default)]
     straight_mm: Option<f64>,
     #[serde(default = "default_rings")]
@@ -134,13 +133,7 @@ pub async fn simulate_route(
     ApiJson(body): ApiJson<SimulateRequest>,
 ) -> Result<Json<SimulateReport>, Problem> {
     validate_design(&body.design, "design")?;
-    let mesh = match (body.mesh_mm, body.straight_mm) {
-        (None, None) => MeshSpec::default_simulation(),
-        (mesh_mm, straight_mm) => MeshSpec {
-            straight_mm,
-            ..MeshSpec::uniform(mesh_mm.unwrap_or(MeshSpec::default_simulation().element_mm))
-        },
-    };
+    let mesh = MeshSpec::from_options(body.mesh_mm, body.straight_mm);
     if !(mesh.element_mm.is_finite()
         && mesh.element_mm >= MIN_SYNC_MESH_MM
         && mesh.element_mm <= 20.0)

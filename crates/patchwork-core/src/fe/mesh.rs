@@ -44,6 +44,21 @@ impl MeshSpec {
         }
     }
 
+    /// The mesh a user's options ask for: neither given, the default
+    /// ([`MeshSpec::default_simulation`]); `element_mm` alone, a uniform
+    /// mesh; `straight_mm` too (or alone, with the default's element size),
+    /// a graded one.
+    pub fn from_options(element_mm: Option<f64>, straight_mm: Option<f64>) -> MeshSpec {
+        let default = MeshSpec::default_simulation();
+        match (element_mm, straight_mm) {
+            (None, None) => default,
+            (element_mm, straight_mm) => MeshSpec {
+                straight_mm,
+                ..MeshSpec::uniform(element_mm.unwrap_or(default.element_mm))
+            },
+        }
+    }
+
     pub fn uniform(element_mm: f64) -> MeshSpec {
         MeshSpec {
             element_mm,
@@ -289,6 +304,24 @@ fn band(triangles: &mut Vec<[usize; 3]>, lower: usize, upper: usize, around: usi
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_users_options_choose_the_mesh() {
+        let default = MeshSpec::default_simulation();
+        assert_eq!(MeshSpec::from_options(None, None), default);
+        assert_eq!(
+            MeshSpec::from_options(Some(2.0), None),
+            MeshSpec::uniform(2.0)
+        );
+        assert_eq!(
+            MeshSpec::from_options(Some(1.0), Some(8.0)),
+            MeshSpec::graded(1.0, 8.0)
+        );
+        assert_eq!(
+            MeshSpec::from_options(None, Some(6.0)),
+            MeshSpec::graded(default.element_mm, 6.0)
+        );
+    }
 
     #[test]
     fn a_mesh_spec_names_itself() {

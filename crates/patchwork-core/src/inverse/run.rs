@@ -139,9 +139,6 @@ pub struct Setup<'a> {
     pub input: InputReport,
     pub settings: &'a UserSettings,
     pub tuning: &'a Tuning,
-    /// The variables the search and the refines may change: the user's,
-    /// less X and Θ for a planar design.
-    pub freedom: Freedom,
     pub profiles: TargetProfiles,
     pub search_model: SimulateOptions,
     pub verify_model: SimulateOptions,
@@ -157,6 +154,24 @@ impl<'a> Setup<'a> {
         }
     }
 
+    /// The variables the search and the refines may change: the user's,
+    /// less X and Θ while the design is planar.
+    pub fn freedom(&self) -> Freedom {
+        self.freedom_for(self.input.planar_design)
+    }
+
+    /// The user's freedom, less X and Θ for a `planar` layout.
+    pub fn freedom_for(&self, planar: bool) -> Freedom {
+        match planar {
+            true => Freedom {
+                x: false,
+                theta: false,
+                ..self.settings.freedom
+            },
+            false => self.settings.freedom,
+        }
+    }
+
     pub fn new(
         target: &'a Curve,
         mut input: InputReport,
@@ -164,20 +179,11 @@ impl<'a> Setup<'a> {
         tuning: &'a Tuning,
     ) -> Setup<'a> {
         input.planar_design = input.planar && tuning.planar_designs;
-        let freedom = match input.planar_design {
-            true => Freedom {
-                x: false,
-                theta: false,
-                ..settings.freedom
-            },
-            false => settings.freedom,
-        };
         Setup {
             target,
             input,
             settings,
             tuning,
-            freedom,
             profiles: TargetProfiles::new(target, tuning.rings, &tuning.objective),
             search_model: tuning.model(tuning.search_mesh),
             verify_model: tuning.model(tuning.verify_mesh),

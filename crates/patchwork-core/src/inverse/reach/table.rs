@@ -162,8 +162,7 @@ fn one_patch(base: &Design, h: f64, width: f64, theta_deg: f64) -> Design {
 /// mesh's rings there (`HelixFit`, from tangents and curvature vectors).
 fn middle_helix(design: &Design, simulation: &Simulation) -> (f64, f64) {
     let patch = &design.patches[0];
-    let theta = patch.theta_deg.to_radians();
-    let axial = patch.h_mm * theta.cos() + patch.w_mm * theta.sin();
+    let axial = 2.0 * patch.axial_half_extent();
     let (a, b) = (
         nearest_ring(simulation, patch.y_mm - 0.25 * axial),
         nearest_ring(simulation, patch.y_mm + 0.25 * axial),
@@ -188,13 +187,10 @@ fn middle_helix(design: &Design, simulation: &Simulation) -> (f64, f64) {
 /// the patch's inflated axial extent, on the simulation's centreline (the
 /// one targets are compared with).
 fn peak_bend(design: &Design, simulation: &Simulation, bend_mm: f64) -> f64 {
-    let patch = &design.patches[0];
-    let theta = patch.theta_deg.to_radians();
-    let axial = patch.h_mm * theta.cos() + patch.w_mm * theta.sin();
     let centreline = &simulation.centreline;
     let stretch = centreline.length() / design.balloon.length_mm;
     let middle = 0.5 * centreline.length();
-    let half = 0.5 * axial * stretch;
+    let half = design.patches[0].axial_half_extent() * stretch;
     let analysis = analysed(centreline, bend_mm);
     bends(&analysis, bend_mm)
         .into_iter()

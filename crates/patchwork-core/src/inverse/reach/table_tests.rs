@@ -135,4 +135,16 @@ fn simulated_trains_are_within_reach() {
         assert_eq!(input.smoothing_mm, 0.0, "noise {}", input.noise_mm);
         assert!(judge(&prepared, table.clone(), lengths, 0.01).reachable());
     }
+    // Sampled finely (400 rings, 1.8 mm apart), a helix fitted over the
+    // twist window across an inflection asks 27–92 twist per bend at one
+    // window between windows within reach; such lone windows do not count.
+    for design in [&designs[0], &designs[5]] {
+        let fine = SimulateOptions {
+            rings: 400,
+            ..model()
+        };
+        let simulation = crate::fe::simulate(design, &fine).unwrap();
+        let report = judge(&simulation.centreline, table.clone(), lengths, 0.01);
+        assert!(report.reachable(), "{:?}", report.out_of_reach);
+    }
 }

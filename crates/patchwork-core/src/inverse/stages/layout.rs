@@ -12,7 +12,6 @@ use super::super::errors::DesignRunError;
 use super::super::layout::{LayoutTrial, with_gentle_bends};
 use super::super::planar::flattened;
 use super::super::run::{Context, Run};
-use super::super::variables::Freedom;
 use super::RunStage;
 use super::refine::Refine;
 use super::seed::ksa_params;
@@ -31,11 +30,12 @@ pub struct Layout {
     pub refine: Refine,
 }
 
-/// A layout to try: what it is, its patches, and what its refine may change.
+/// A layout to try: what it is, its patches, and whether its refine keeps
+/// it planar (X and Θ fixed).
 struct Candidate {
     layout: String,
     design: Design,
-    freedom: Freedom,
+    planar: bool,
 }
 
 /// A candidate refined and verified on the design's mesh.
@@ -58,7 +58,7 @@ impl RunStage for Layout {
             chosen: true,
         }];
         for candidate in candidates(run) {
-            let keeps_freedom = candidate.freedom == run.setup.freedom;
+            let planar = candidate.planar;
             let mut trial = LayoutTrial {
                 layout: candidate.layout.clone(),
                 patches: candidate.design.patches.len(),
@@ -70,7 +70,7 @@ impl RunStage for Layout {
             let better = trial.shape_error_percent < (1.0 - MARGIN) * current_error;
             match (better, tried) {
                 (true, Some(tried)) => {
-                    adopt(run, tried, keeps_freedom);
+                    adopt(run, tried, planar);
                     run.layouts[0].chosen = false;
                     trial.chosen = true;
                     run.layouts.push(trial);
@@ -99,9 +99,10 @@ impl Layout {
             return Ok(None);
         };
         run.state.evaluations += 1;
+        let freedom = run.setup.freedom_for(candidate.planar);
         let (refined, solves) =
             self.refine
-                .refine_from(run, ctx, candidate.design, start, candidate.freedom)?;
+                .refine_from(run, ctx, candidate.design, start, freedom)?;
         run.state.evaluations += solves;
         let simulation = match self.refine.verified_on(run, &refined) == run.verified_on {
             true => Some(refined.simulation),
@@ -137,7 +138,7 @@ fn candidates(run: &Run<'_>) -> Vec<Candidate> {
     let free = Candidate {
         layout: layout.clone(),
         design: gentle.clone(),
-        freedom: setup.settings.freedom,
+        planar: false,
     };
     if !setup.input.planar_design {
         return vec![free];
@@ -149,7 +150,7 @@ fn candidates(run: &Run<'_>) -> Vec<Candidate> {
             patches: flattened(&gentle.patches, circumference),
             ..gentle
         },
-        freedom: setup.freedom,
+        planar: true,
     };
     vec![
         planar,
@@ -160,17 +161,14 @@ fn candidates(run: &Run<'_>) -> Vec<Candidate> {
     ]
 }
 
-/// The tried layout as the run's design; one refined with more freedom
-/// than the run's (a planar design's free candidate) ends the design's
-/// planarity, and the final refine then frees X and Θ too.
-fn adopt(run: &mut Run<'_>, tried: Tried, keeps_freedom: bool) {
+/// The tried layout as the run's design; a layout refined with X and Θ
+/// free ends the design's planarity (if it had any), and the final refine
+/// then frees them too.
+fn adopt(run: &mut Run<'_>, tried: Tried, planar: bool) {
     run.design = tried.design;
     run.verified = Some(tried.simulation);
     run.jacobian = tried.jacobian;
-    if !keeps_freedom {
-        run.setup.input.planar_design = false;
-        run.setup.freedom = run.setup.settings.freedom;
-    }
+    run.setup.input.planar_design &= planar;
 }
 
 /// The shape error (% of length) of a simulation against the run's target.

@@ -32,7 +32,7 @@ impl RunStage for Refine {
         }
         let simulation = run.take_verified("refine")?;
         let design = run.design.clone();
-        let freedom = run.setup.freedom;
+        let freedom = run.setup.freedom();
         let (refined, solves) = self.refine_from(run, ctx, design, simulation, freedom)?;
         let verified_on = self.verified_on(run, &refined);
         run.verified_on = verified_on;
@@ -118,7 +118,7 @@ pub(super) fn refine_problem<'r>(
     RefineProblem {
         model: &run.setup.verify_model,
         target: &run.setup.profiles,
-        freedom: run.setup.freedom,
+        freedom: run.setup.freedom(),
         bounds: &run.bounds,
         free_length: !run.setup.settings.fix_length,
         correction: None,

@@ -86,7 +86,7 @@ impl Seed {
                 (state, seed_simulation)
             }
         };
-        let space = design_space(&state, setup.freedom, &settings.bounds, tuning.start)?;
+        let space = design_space(&state, setup.freedom(), &settings.bounds, tuning.start)?;
         let mut run = Run::new(setup, state, space);
         run.warm_start = warm_start;
         Ok(run)
