@@ -42,7 +42,7 @@ fn the_same_settings_make_the_same_plan_through_the_cli_and_the_api() {
     let options = scratch.path().join("options.json");
     std::fs::write(&options, r#"{"pressure_kpa": 25}"#).unwrap();
     let options = options.to_str().unwrap();
-    let cases: [(&[&str], serde_json::Value); 5] = [
+    let cases: [(&[&str], serde_json::Value); 4] = [
         (&[], serde_json::json!({})),
         (
             &["--fidelity", "draft", "--seed", "7", "--budget", "40"],
@@ -52,35 +52,21 @@ fn the_same_settings_make_the_same_plan_through_the_cli_and_the_api() {
             &[
                 "--fidelity",
                 "fine",
-                "--patience",
-                "0",
-                "--refine",
-                "90",
-                "--no-correction",
-                "--polish",
-                "30",
-                "--initial-step",
-                "0.1",
-                "--start",
-                "even",
-            ],
-            serde_json::json!({"options": {
-                "fidelity": "fine", "patience": 0, "refine": 90, "correction": false,
-                "polish": 30, "initial_step": 0.1, "start": "even"
-            }}),
-        ),
-        (
-            &[
-                "--shape-weight",
-                "3",
-                "--squared",
+                "--tuning",
+                r#"{"search_patience": 0, "refine_budget": 90, "correction": false,
+                    "polish_budget": 30, "initial_step": 0.1, "start": "even",
+                    "objective": {"shape_weight": 3, "squared": true}}"#,
                 "--fix-length",
                 "--bounds",
                 r#"{"w_min_mm": 0.5, "h_max_mm": 40}"#,
             ],
             serde_json::json!({
-                "objective": {"shape_weight": 3, "squared": true},
-                "options": {"fix_length": true},
+                "options": {"fidelity": "fine", "fix_length": true},
+                "tuning": {
+                    "search_patience": 0, "refine_budget": 90, "correction": false,
+                    "polish_budget": 30, "initial_step": 0.1, "start": "even",
+                    "objective": {"shape_weight": 3, "squared": true}
+                },
                 "bounds": {"w_min_mm": 0.5, "h_max_mm": 40}
             }),
         ),
@@ -95,7 +81,7 @@ fn the_same_settings_make_the_same_plan_through_the_cli_and_the_api() {
     }
     // Plans do tell settings apart: a different patience is another plan.
     assert_ne!(
-        from_cli(&["--patience", "10"]),
-        from_api(serde_json::json!({"options": {"patience": 20}}))
+        from_cli(&["--tuning", r#"{"search_patience": 10}"#]),
+        from_api(serde_json::json!({"tuning": {"search_patience": 20}}))
     );
 }

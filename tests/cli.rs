@@ -519,10 +519,21 @@ fn design_rejects_bad_options_in_one_line() {
         &patchwork(&["design", hilbert, "--out", "/tmp/x", "--budget", "0"]),
         "--budget",
     );
-    assert_one_line_error(
-        &patchwork(&["design", hilbert, "--out", "/tmp/x", "--mesh-mm", "-2"]),
-        "--mesh-mm",
-    );
+    // Expert tuning names the option and the field.
+    for (tuning, needle) in [
+        (r#"{"uniform_mesh_mm": -2}"#, "--tuning: uniform_mesh_mm"),
+        (r#"{"initial_step": 3}"#, "--tuning: initial_step"),
+        (
+            r#"{"objective": {"shape_weight": -1}}"#,
+            "--tuning: objective.shape_weight",
+        ),
+        (r#"{"patience": 3}"#, "--tuning: unknown field `patience`"),
+    ] {
+        assert_one_line_error(
+            &patchwork(&["design", hilbert, "--out", "/tmp/x", "--tuning", tuning]),
+            needle,
+        );
+    }
     assert_one_line_error(
         &patchwork(&["design", hilbert, "--out", "/tmp/x", "--fidelity", "ultra"]),
         "--fidelity",
@@ -560,7 +571,14 @@ fn design_reports_what_is_out_of_reach() {
     let out = scratch.path().join("out").to_string_lossy().to_string();
     let run = |extra: &[&str]| {
         let mut args = vec!["design", &curve, "--out", &out, "--fidelity", "draft"];
-        args.extend_from_slice(&["--budget", "1", "--refine", "0", "--threads", "2"]);
+        args.extend_from_slice(&[
+            "--budget",
+            "1",
+            "--tuning",
+            r#"{"refine_budget": 0}"#,
+            "--threads",
+            "2",
+        ]);
         args.extend_from_slice(extra);
         patchwork(&args)
     };
@@ -610,8 +628,8 @@ fn a_gentle_arc_gets_its_patches_from_the_layout_stage() {
         "draft",
         "--budget",
         "1",
-        "--refine",
-        "20",
+        "--tuning",
+        r#"{"refine_budget": 20}"#,
         "--threads",
         "2",
         "--json",
@@ -667,8 +685,8 @@ fn fine_reports_its_final_refine() {
         "fine",
         "--budget",
         "20",
-        "--refine",
-        "75",
+        "--tuning",
+        r#"{"refine_budget": 75}"#,
         "--threads",
         "2",
     ]);

@@ -32,13 +32,13 @@ run() { # name curve args...
 }
 for curve in helix arc; do
   run "$curve-draft" $curve --fidelity draft --budget 60
-  run "$curve-draft-uncorrected" $curve --fidelity draft --budget 60 --no-correction
-  run "$curve-draft-norefine" $curve --fidelity draft --budget 60 --refine 0
+  run "$curve-draft-uncorrected" $curve --fidelity draft --budget 60 --tuning '{"correction": false}'
+  run "$curve-draft-norefine" $curve --fidelity draft --budget 60 --tuning '{"refine_budget": 0}'
   run "$curve-standard" $curve --fidelity standard --budget 60
 done
 run arc-fine arc --fidelity fine --budget 60
-run arc-polish arc --fidelity draft --budget 40 --polish 24 --mesh-mm 3
-run arc-even arc --fidelity draft --budget 40 --start even
+run arc-polish arc --fidelity draft --budget 40 --tuning '{"polish_budget": 24, "uniform_mesh_mm": 3}'
+run arc-even arc --fidelity draft --budget 40 --tuning '{"start": "even"}'
 run hilbert-draft hilbert --fidelity draft
 run hilbert-standard hilbert --fidelity standard
 run pancake-draft pancake --fidelity draft

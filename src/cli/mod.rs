@@ -30,20 +30,29 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Analyse a target curve: length, point count, curvature and torsion.
+    #[command(
+        after_help = "Example:\n  patchwork preset helix > helix.csv && patchwork curve helix.csv"
+    )]
     Curve(curve_cmd::CurveArgs),
     /// Kinematic Segmentation Algorithm: a first guess at the patches.
+    #[command(after_help = "Example:\n  patchwork ksa helix.csv --json")]
     Ksa(ksa_cmd::KsaArgs),
     /// Write a preset curve as CSV to stdout (`patchwork preset list` for names).
+    #[command(
+        after_help = "Example:\n  patchwork preset grasp diameter_mm=40 turns=1.5 > grasp.csv"
+    )]
     Preset(preset_cmd::PresetArgs),
     /// Forward model: inflate a design and report its centreline.
+    #[command(after_help = "Example:\n  patchwork simulate out/design.json --out inflated/")]
     Simulate(simulate_cmd::SimulateArgs),
-    /// Inverse design: patches for a target curve, with cut files (long
-    /// balloons that coil are slow: for a 2 m helix, the seed's first
-    /// simulation on the verification model alone takes about seven minutes).
+    /// Inverse design: patches for a target curve, with cut files.
+    #[command(after_help = "Example:\n  patchwork design grasp.csv --out grasp/ --fidelity draft")]
     Design(design_cmd::DesignArgs),
     /// Run time against error: a fixed suite of curves × fidelity settings.
+    #[command(after_help = "Example:\n  patchwork bench --quick --out bench-out")]
     Bench(bench_cmd::BenchArgs),
     /// HTTP design service: REST API, SQLite job store, worker pool.
+    #[command(after_help = "Example:\n  patchwork serve --addr 0.0.0.0:8080 --db patchwork.db")]
     Serve(crate::service::ServeArgs),
 }
 

@@ -37,11 +37,16 @@ pub async fn stream(
         Some(v) => v
             .to_str()
             .ok()
-            .and_then(|s| s.trim().parse::<i64>().ok())
-            .filter(|&n| n >= 0)
+            .map(str::trim)
+            // Event ids are decimal digits; 18 of them always fit an i64.
+            .filter(|s| (1..=18).contains(&s.len()) && s.bytes().all(|b| b.is_ascii_digit()))
+            .and_then(|s| s.parse::<i64>().ok())
             .ok_or_else(|| {
-                Problem::new(StatusCode::BAD_REQUEST, "must be a non-negative event id")
-                    .field("Last-Event-ID")
+                Problem::new(
+                    StatusCode::BAD_REQUEST,
+                    "must be an event id: 1 to 18 decimal digits",
+                )
+                .field("Last-Event-ID")
             })?,
         None => 0,
     };

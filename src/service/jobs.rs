@@ -155,15 +155,17 @@ pub async fn create(
     Ok(accepted(&row))
 }
 
-/// Same key, same body: the same job. Same key, another body: an error.
+/// Same key, same body: the same job. Same key, another body: a conflict
+/// with the earlier request (the body itself may be valid).
 fn replay(existing: &JobRow, stored: &str) -> Result<Response, Problem> {
     if existing.request == stored {
         Ok(accepted(existing))
     } else {
-        Err(Problem::invalid(
-            "Idempotency-Key",
-            "this key was used for a different request",
-        ))
+        Err(Problem::new(
+            StatusCode::CONFLICT,
+            "this Idempotency-Key was used for a different request",
+        )
+        .field("Idempotency-Key"))
     }
 }
 
@@ -279,6 +281,13 @@ pub async fn iterations(
     let Query(query) = query.map_err(|e| Problem::new(StatusCode::BAD_REQUEST, e.body_text()))?;
     owned(&state, &owner, &id).await?;
     let limit = page_limit(query.limit, 100, 1000)?;
+    if query.after.is_some_and(|after| after < 0) {
+        return Err(Problem::new(
+            StatusCode::BAD_REQUEST,
+            "after must be a count of evaluations (0 or more)",
+        )
+        .field("after"));
+    }
     let rows = state
         .store
         .iterations(&id, query.after.unwrap_or(0), limit)

@@ -130,7 +130,7 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
 /// Syntax errors are 400; a well-formed body of the wrong shape is 422 with
 /// the field's path (`curve.points[3]`).
 pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Problem> {
-    let value: serde_json::Value = serde_json::from_slice(bytes).map_err(|e| {
+    let mut value: serde_json::Value = serde_json::from_slice(bytes).map_err(|e| {
         Problem::new(
             StatusCode::BAD_REQUEST,
             format!(
@@ -140,6 +140,13 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Problem> {
             ),
         )
     })?;
+    integral_floats_as_integers(&mut value);
+    if let Some(field) = first_null(&value, "") {
+        return Err(Problem::invalid(
+            field.clone(),
+            format!("{field}: null is not a value here; leave the field out for its default"),
+        ));
+    }
     serde_path_to_error::deserialize(value).map_err(|e| {
         let field = field_of(&e.path().to_string(), &e.inner().to_string());
         let detail = if field.is_empty() {
@@ -149,6 +156,49 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Problem> {
         };
         Problem::invalid(field, detail)
     })
+}
+
+/// JSON does not tell `12.0` from `12`: a whole number written with a
+/// fraction is taken as the integer (a count field accepts it; a number
+/// field reads the same value).
+fn integral_floats_as_integers(value: &mut serde_json::Value) {
+    use serde_json::Value;
+    match value {
+        Value::Number(n) if !(n.is_i64() || n.is_u64()) => {
+            if let Some(x) = n.as_f64()
+                && x.fract() == 0.0
+                && x.abs() < 9.0e15
+            {
+                *value = Value::from(x as i64);
+            }
+        }
+        Value::Array(items) => items.iter_mut().for_each(integral_floats_as_integers),
+        Value::Object(fields) => fields.values_mut().for_each(integral_floats_as_integers),
+        _ => {}
+    }
+}
+
+/// The path of the first `null` in a request body: no field of a request
+/// takes one (an absent field has its default), so a null is a mistake to
+/// name rather than a silent default.
+fn first_null(value: &serde_json::Value, path: &str) -> Option<String> {
+    use serde_json::Value;
+    match value {
+        Value::Null => Some(path.to_string()),
+        Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .find_map(|(i, item)| first_null(item, &format!("{path}[{i}]"))),
+        Value::Object(fields) => fields.iter().find_map(|(key, item)| {
+            let path = if path.is_empty() {
+                key.clone()
+            } else {
+                format!("{path}.{key}")
+            };
+            first_null(item, &path)
+        }),
+        _ => None,
+    }
 }
 
 /// The JSON path serde blames, completed with the field a "missing field"
@@ -162,5 +212,29 @@ pub fn field_of(path: &str, message: &str) -> String {
         ("", Some(name)) => name.to_string(),
         (parent, Some(name)) => format!("{parent}.{name}"),
         (parent, None) => parent.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::service::request::JobRequest;
+
+    #[test]
+    fn a_whole_number_with_a_fraction_counts_and_a_null_is_named() {
+        let job: JobRequest =
+            parse_json(br#"{"curve": {"preset": "arc", "samples": 400.0}}"#).unwrap();
+        assert_eq!(job.curve.samples, Some(400));
+        let fraction = parse_json::<JobRequest>(br#"{"curve": {"preset": "arc", "samples": 4.5}}"#);
+        assert_eq!(
+            fraction.unwrap_err().field.as_deref(),
+            Some("curve.samples")
+        );
+        let null = parse_json::<JobRequest>(
+            br#"{"curve": {"preset": "arc"}, "bounds": {"w_min_mm": null}}"#,
+        );
+        let problem = null.unwrap_err();
+        assert_eq!(problem.field.as_deref(), Some("bounds.w_min_mm"));
+        assert!(problem.detail.contains("null"), "{}", problem.detail);
     }
 }

@@ -52,16 +52,22 @@ impl Default for KsaRequest {
     }
 }
 
-fn positive(field: &str, value: f64) -> Result<(), Problem> {
-    if value.is_finite() && value > 0.0 {
+/// `value` within `[min, max]`, else a problem naming `field`.
+fn within(field: &str, value: f64, (min, max): (f64, f64)) -> Result<(), Problem> {
+    if (min..=max).contains(&value) {
         Ok(())
     } else {
         Err(Problem::invalid(
             field,
-            format!("{field} must be a finite positive number"),
+            format!("{field} must be between {min} and {max}, got {value}"),
         ))
     }
 }
+
+/// Ranges of KSA's parameters: lengths in mm, κ in mm⁻¹, the stretch λ.
+const LENGTH_RANGE: (f64, f64) = (0.001, 100_000.0);
+const KAPPA_RANGE: (f64, f64) = (1e-6, 10.0);
+const STRETCH_RANGE: (f64, f64) = (0.01, 100.0);
 
 /// Runs CPU work off the async runtime.
 async fn blocking<T: Send + 'static>(
@@ -73,17 +79,17 @@ async fn blocking<T: Send + 'static>(
 }
 
 pub async fn ksa_route(ApiJson(body): ApiJson<KsaRequest>) -> Result<Json<KsaReport>, Problem> {
-    for (field, value) in [
-        ("l0_mm", body.l0_mm),
-        ("r0_mm", body.r0_mm),
-        ("kappa_tol", body.kappa_tol),
-        ("merge_mm", body.merge_mm),
-        ("width_mm", body.width_mm),
+    for (field, value, range) in [
+        ("l0_mm", body.l0_mm, LENGTH_RANGE),
+        ("r0_mm", body.r0_mm, LENGTH_RANGE),
+        ("kappa_tol", body.kappa_tol, KAPPA_RANGE),
+        ("merge_mm", body.merge_mm, LENGTH_RANGE),
+        ("width_mm", body.width_mm, LENGTH_RANGE),
     ] {
-        positive(field, value)?;
+        within(field, value, range)?;
     }
     if let Some(lambda) = body.stretch {
-        positive("stretch", lambda)?;
+        within("stretch", lambda, STRETCH_RANGE)?;
     }
     let curve = body.curve.load(body.units, "curve")?;
     let params = KsaParams {

@@ -4,8 +4,8 @@
 use patchwork_core::curve::{Curve, Preset, Units, points_from_json, read_text};
 use patchwork_core::design::Design;
 use patchwork_core::inverse::{
-    Fidelity, Freedom, ObjectiveOptions, Plan, SettingsError, Smoothing, Start, TuningOverrides,
-    UserSettings, VariableBounds,
+    Fidelity, Freedom, Plan, SettingsError, Smoothing, TuningOverrides, UserSettings,
+    VariableBounds,
 };
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -38,10 +38,6 @@ pub struct JobOptions {
     /// Forward evaluations of the search (default: the fidelity's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub budget: Option<usize>,
-    /// Evaluations the search may go without a better design before it ends
-    /// (default: the fidelity's; 0: spend the whole budget).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub patience: Option<usize>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seed: Option<u64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -49,27 +45,6 @@ pub struct JobOptions {
     /// Keep `design.balloon.length_mm` instead of matching the target length.
     #[serde(default)]
     pub fix_length: bool,
-    /// Evaluations of the coarse-to-fine CMA-ES polish on the verification
-    /// model (default: the fidelity's, 0 in every preset).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub polish: Option<usize>,
-    /// Solves of the Levenberg–Marquardt refine on the shape error
-    /// (default: the fidelity's; standard and fine spend all but draft's 60
-    /// on a final refine on the uniform 0.5 mm mesh).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub refine: Option<usize>,
-    /// Correct the refine by the fidelity's finer model and verify on it
-    /// (default true); false refines and verifies on the verification model
-    /// (standard's and fine's final refine on the uniform 0.5 mm mesh runs
-    /// either way).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub correction: Option<bool>,
-    /// CMA-ES's initial step as a fraction of each variable's range.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub initial_step: Option<f64>,
-    /// Where CMA-ES starts (default: KSA's patches).
-    #[serde(default)]
-    pub start: Start,
     /// Gaussian smoothing of the target along arc length, σ in mm (0: the
     /// curve as given); absent: chosen from the noise found on its points.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -92,9 +67,9 @@ pub struct JobRequest {
     pub bounds: Option<VariableBounds>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub freedom: Option<Freedom>,
-    /// The objective's form and the shape-error weight.
+    /// Expert tuning laid over the fidelity's preset (docs/tuning.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub objective: Option<ObjectiveOptions>,
+    pub tuning: Option<TuningOverrides>,
 }
 
 /// A validated job: the target and the run's plan.
@@ -116,10 +91,11 @@ impl JobRequest {
                 format!("must be between 1 and {MAX_BUDGET} evaluations, got {budget}"),
             ));
         }
+        let tuning = self.tuning.clone().unwrap_or_default();
         for (field, value) in [
-            ("options.patience", self.options.patience),
-            ("options.polish", self.options.polish),
-            ("options.refine", self.options.refine),
+            ("tuning.search_patience", tuning.search_patience),
+            ("tuning.polish_budget", tuning.polish_budget),
+            ("tuning.refine_budget", tuning.refine_budget),
         ] {
             if value.is_some_and(|v| v > MAX_BUDGET) {
                 return Err(Problem::invalid(
@@ -143,17 +119,7 @@ impl JobRequest {
             // One job per worker, one worker per core.
             threads: 1,
         };
-        let overrides = TuningOverrides {
-            search_patience: self.options.patience,
-            initial_step: self.options.initial_step,
-            start: Some(self.options.start),
-            objective: self.objective,
-            polish_budget: self.options.polish,
-            refine_budget: self.options.refine,
-            correction: self.options.correction,
-            ..TuningOverrides::default()
-        };
-        let plan = Plan::resolve(settings, &overrides).map_err(problem_of)?;
+        let plan = Plan::resolve(settings, &tuning).map_err(problem_of)?;
         Ok(Prepared { target, plan })
     }
 }
@@ -162,7 +128,6 @@ impl JobRequest {
 fn problem_of(error: SettingsError) -> Problem {
     let SettingsError { field, reason } = error;
     let field = match field.as_str() {
-        "initial_step" => "options.initial_step".to_string(),
         "budget" => "options.budget".to_string(),
         "smoothing" => "options.smooth_mm".to_string(),
         _ => field,

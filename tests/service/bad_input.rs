@@ -102,20 +102,20 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "options.budget",
         ),
         (
-            json!({"curve": {"preset": "arc"}, "options": {"refine": 10_000_000}}),
-            "options.refine",
+            json!({"curve": {"preset": "arc"}, "tuning": {"refine_budget": 10_000_000}}),
+            "tuning.refine_budget",
         ),
         (
-            json!({"curve": {"preset": "arc"}, "options": {"refine": -1}}),
-            "options.refine",
+            json!({"curve": {"preset": "arc"}, "tuning": {"refine_budget": -1}}),
+            "tuning.refine_budget",
         ),
         (
-            json!({"curve": {"preset": "arc"}, "options": {"patience": 10_000_000}}),
-            "options.patience",
+            json!({"curve": {"preset": "arc"}, "tuning": {"search_patience": 10_000_000}}),
+            "tuning.search_patience",
         ),
         (
-            json!({"curve": {"preset": "arc"}, "options": {"correction": "yes"}}),
-            "options.correction",
+            json!({"curve": {"preset": "arc"}, "tuning": {"correction": "yes"}}),
+            "tuning.correction",
         ),
         (
             json!({"curve": {"preset": "arc"}, "options": {"fidelity": "ultra"}}),
@@ -134,24 +134,32 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "bounds.theta_limit_deg",
         ),
         (
-            json!({"curve": {"preset": "arc"}, "objective": {"shape_weight": -1}}),
-            "objective.shape_weight",
+            json!({"curve": {"preset": "arc"}, "tuning": {"objective": {"shape_weight": -1}}}),
+            "tuning.objective.shape_weight",
         ),
         (
-            json!({"curve": {"preset": "arc"}, "objective": {"smooth_fraction": 2}}),
-            "objective.smooth_fraction",
+            json!({"curve": {"preset": "arc"}, "tuning": {"objective": {"smooth_fraction": 2}}}),
+            "tuning.objective.smooth_fraction",
         ),
         (
-            json!({"curve": {"preset": "arc"}, "objective": {"weight": 1}}),
-            "objective.weight",
+            json!({"curve": {"preset": "arc"}, "tuning": {"objective": {"weight": 1}}}),
+            "tuning.objective.weight",
         ),
         (
-            json!({"curve": {"preset": "arc"}, "options": {"initial_step": 0}}),
-            "options.initial_step",
+            json!({"curve": {"preset": "arc"}, "tuning": {"initial_step": 0}}),
+            "tuning.initial_step",
         ),
         (
-            json!({"curve": {"preset": "arc"}, "options": {"start": "random"}}),
-            "options.start",
+            json!({"curve": {"preset": "arc"}, "tuning": {"start": "random"}}),
+            "tuning.start",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "tuning": {"kappa_tol": 0}}),
+            "tuning.kappa_tol",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "tuning": {"uniform_mesh_mm": 50}}),
+            "tuning.uniform_mesh_mm",
         ),
         (
             json!({"curve": {"preset": "arc"}, "options": {"smooth_mm": -1}}),

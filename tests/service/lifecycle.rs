@@ -265,7 +265,7 @@ async fn the_same_idempotency_key_gives_the_same_job() {
     let again: Value = again.json().await.unwrap();
     assert_eq!(first["id"], again["id"]);
     let other = send(quick_job(21)).await.unwrap();
-    assert_problem(other, 422, Some("Idempotency-Key")).await;
+    assert_problem(other, 409, Some("Idempotency-Key")).await;
     let list: Value = api.get("/v1/jobs").await.json().await.unwrap();
     assert_eq!(list["jobs"].as_array().unwrap().len(), 1);
 }

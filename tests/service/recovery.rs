@@ -84,3 +84,62 @@ async fn sigterm_checkpoints_running_jobs_and_the_next_start_finishes_them() {
     assert!(resumed_at > FIRST_GENERATION + 8, "restarted from scratch");
     assert_eq!(after.last().unwrap().kind, "done");
 }
+
+/// A job queued by a server whose requests still carried the research
+/// options (`options.patience`, `options.refine`, `objective`) runs after an
+/// upgrade: the migration moves them into `tuning`.
+#[tokio::test(flavor = "multi_thread")]
+async fn a_job_queued_before_the_tuning_object_runs_after_the_upgrade() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("patchwork.db");
+    let first = dir.path().join("migrations");
+    std::fs::create_dir(&first).unwrap();
+    std::fs::copy("migrations/0001_jobs.sql", first.join("0001_jobs.sql")).unwrap();
+    let old_request = serde_json::json!({
+        "curve": {"preset": "arc", "params": {"radius_mm": 40, "angle_deg": 90}},
+        "options": {"budget": 8, "seed": 3, "fidelity": "draft", "patience": 0, "refine": 2,
+                    "correction": false, "start": "ksa"},
+        "objective": {"shape_weight": 5}
+    });
+    {
+        let options = sqlx::sqlite::SqliteConnectOptions::new()
+            .filename(&db)
+            .create_if_missing(true);
+        let pool = sqlx::SqlitePool::connect_with(options).await.unwrap();
+        let migrator = sqlx::migrate::Migrator::new(first.as_path()).await.unwrap();
+        migrator.run(&pool).await.unwrap();
+        sqlx::query(
+            "INSERT INTO jobs (id, owner, status, request, created_at, updated_at)
+             VALUES ('0190a5c4-0000-7000-8000-000000000001', '', 'queued', ?,
+                     '2026-11-01T00:00:00Z', '2026-11-01T00:00:00Z')",
+        )
+        .bind(old_request.to_string())
+        .execute(&pool)
+        .await
+        .unwrap();
+        pool.close().await;
+    }
+    let server = Server::with(Options {
+        workers: Some(1),
+        db: Some(db),
+        ..Options::default()
+    });
+    let api = server.api();
+    let id = "0190a5c4-0000-7000-8000-000000000001";
+    let job = api
+        .wait_for(id, &["succeeded", "failed"], Duration::from_secs(60))
+        .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    let result: serde_json::Value = api
+        .get(&format!("/v1/jobs/{id}/result"))
+        .await
+        .json()
+        .await
+        .unwrap();
+    // The refine ran with the old request's 2 solves, uncorrected.
+    assert!(
+        result["refine"]["solves"].as_u64().unwrap() <= 2,
+        "{}",
+        result["refine"]
+    );
+}

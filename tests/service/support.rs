@@ -205,7 +205,8 @@ pub fn quick_job(budget: usize) -> Value {
 pub fn long_job(budget: usize) -> Value {
     json!({
         "curve": {"preset": "helix", "params": {"radius_mm": 15, "pitch_mm": 40, "turns": 0.6}},
-        "options": {"budget": budget, "seed": 5, "fidelity": "draft", "patience": 0}
+        "options": {"budget": budget, "seed": 5, "fidelity": "draft"},
+        "tuning": {"search_patience": 0}
     })
 }
 

@@ -31,6 +31,12 @@ pub enum CurveError {
         axis: char,
         value: f64,
     },
+    #[error("{at}: column {column} is {value}, beyond ±1000000 (in the curve's units)")]
+    OutOfRange {
+        at: Location,
+        column: usize,
+        value: f64,
+    },
     #[error("{at}: expected 3 columns (x y z), found {found}")]
     WrongColumnCount { at: Location, found: usize },
     #[error("{at}: column {column} is not a number: {text:?}")]

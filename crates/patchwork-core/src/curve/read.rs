@@ -89,11 +89,12 @@ pub fn read_text(input: &str, units: Units) -> Result<Curve, CurveError> {
         }
         let mut xyz = [0.0; 3];
         for (column, field) in fields.iter().enumerate() {
-            xyz[column] = field.parse().map_err(|_| CurveError::NotANumber {
+            let value = field.parse().map_err(|_| CurveError::NotANumber {
                 at: Location::Line(line_no),
                 column: column + 1,
                 text: field.to_string(),
             })?;
+            xyz[column] = within_range(value, Location::Line(line_no), column + 1)?;
         }
         points.push(Point::from(xyz) * scale);
         lines.push(line_no);
@@ -139,6 +140,19 @@ pub fn read_json(input: &str, units: Units) -> Result<Curve, CurveError> {
     points_from_json(&parsed.points, units)
 }
 
+/// The largest coordinate magnitude accepted, in the curve's own units
+/// (a kilometre in millimetres; beyond it lengths lose their precision).
+pub const MAX_COORDINATE: f64 = 1e6;
+
+/// `value` if it is at most [`MAX_COORDINATE`] in magnitude; a non-finite
+/// value passes, for the curve's own check to name its axis.
+fn within_range(value: f64, at: Location, column: usize) -> Result<f64, CurveError> {
+    if value.is_finite() && value.abs() > MAX_COORDINATE {
+        return Err(CurveError::OutOfRange { at, column, value });
+    }
+    Ok(value)
+}
+
 /// Converts already-parsed JSON rows (as in an API request) into a curve.
 pub fn points_from_json(
     rows: &[Vec<serde_json::Value>],
@@ -161,11 +175,12 @@ pub fn points_from_json(
         }
         let mut xyz = [0.0; 3];
         for (column, value) in row.iter().enumerate() {
-            xyz[column] = value.as_f64().ok_or_else(|| CurveError::NotANumber {
+            let number = value.as_f64().ok_or_else(|| CurveError::NotANumber {
                 at: Location::Index(index),
                 column: column + 1,
                 text: value.to_string(),
             })?;
+            xyz[column] = within_range(number, Location::Index(index), column + 1)?;
         }
         points.push(Point::from(xyz) * scale);
     }
@@ -256,5 +271,19 @@ mod tests {
             read_text(&text, Units::Mm).unwrap_err(),
             CurveError::TooManyPoints { .. }
         ));
+    }
+
+    #[test]
+    fn coordinates_beyond_a_million_units_are_named() {
+        let text = "0,0,0\n1,0,0\n2,0,2000000\n3,0,0\n";
+        let err = read_text(text, Units::Mm).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "line 3: column 3 is 2000000, beyond ±1000000 (in the curve's units)"
+        );
+        let rows = vec![vec![serde_json::json!(-1.5e6), 0.into(), 0.into()]];
+        let err = points_from_json(&rows, Units::M).unwrap_err();
+        assert!(err.to_string().starts_with("points[0]: column 1"), "{err}");
+        assert!(read_text("0,0,0\n1,0,0\n2,0,1000000\n3,0,0\n", Units::Mm).is_ok());
     }
 }

@@ -94,6 +94,10 @@ pub struct Simulation {
     pub patch_share: Vec<f64>,
 }
 
+/// The most mesh nodes one solve may use (about 2 GB of memory; a 2 m
+/// balloon on a uniform 0.5 mm mesh has 0.16 million).
+pub const MAX_NODES: f64 = 1e6;
+
 /// Simulates `design` under `options`, starting from the closed-form bare tube.
 pub fn simulate(design: &Design, options: &SimulateOptions) -> Result<Simulation, SimulateError> {
     simulate_from(design, options, None)
@@ -131,6 +135,17 @@ pub fn simulate_with(
         return Err(SimulateError::Options(format!(
             "rings = {} must be between 2 and 10000",
             options.rings
+        )));
+    }
+    let nodes = options
+        .mesh
+        .most_nodes(design.balloon.radius_mm, design.balloon.length_mm);
+    if nodes > MAX_NODES {
+        return Err(SimulateError::Options(format!(
+            "a {:.0} mm balloon of radius {} mm on {} elements needs up to {nodes:.0} nodes, \
+             more than the {MAX_NODES:.0} one solve may use: a shorter or thinner balloon, \
+             or a coarser mesh",
+            design.balloon.length_mm, design.balloon.radius_mm, options.mesh
         )));
     }
     let b = &design.balloon;

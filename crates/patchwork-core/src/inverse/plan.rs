@@ -80,7 +80,17 @@ impl Plan {
         check_overrides(overrides)?;
         let preset = settings.fidelity.tuning(settings.base.balloon.radius_mm);
         let tuning = overrides.apply(preset);
-        Plan::with_tuning(settings, tuning)
+        Plan::with_tuning(settings, tuning).map_err(|error| {
+            // A model's mesh comes from the preset unless the expert set one:
+            // a preset mesh fails only on a balloon too thin for it.
+            if !error.field.ends_with("_mesh") && !error.field.ends_with(".mesh") {
+                error
+            } else if overrides.uniform_mesh_mm.is_some() {
+                SettingsError::new("tuning.uniform_mesh_mm", error.reason)
+            } else {
+                SettingsError::new("design.balloon.radius_mm", error.reason)
+            }
+        })
     }
 
     /// The plan of `settings` with a complete `tuning` of the caller's (the
@@ -177,14 +187,26 @@ fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<PlannedStage> {
     stages
 }
 
+/// The finest uniform search mesh an expert may ask for (mm); the refine
+/// and verification use half of it.
+pub const MIN_UNIFORM_MESH_MM: f64 = 0.1;
+
 /// The overrides' own ranges, before they are laid over a preset.
 fn check_overrides(overrides: &TuningOverrides) -> Result<(), SettingsError> {
     if let Some(mesh_mm) = overrides.uniform_mesh_mm
-        && !(mesh_mm.is_finite() && mesh_mm > 0.0)
+        && !(mesh_mm.is_finite() && mesh_mm >= MIN_UNIFORM_MESH_MM)
     {
         return Err(SettingsError::new(
-            "uniform_mesh_mm",
-            format!("must be a positive number, got {mesh_mm}"),
+            "tuning.uniform_mesh_mm",
+            format!("must be at least {MIN_UNIFORM_MESH_MM} mm, got {mesh_mm}"),
+        ));
+    }
+    if let Some(kappa_tol) = overrides.kappa_tol
+        && !(kappa_tol.is_finite() && kappa_tol > 0.0)
+    {
+        return Err(SettingsError::new(
+            "tuning.kappa_tol",
+            format!("must be a positive number, got {kappa_tol}"),
         ));
     }
     Ok(())
@@ -216,23 +238,25 @@ fn check(settings: &UserSettings, tuning: &Tuning) -> Result<(), SettingsError> 
         .bounds
         .validate()
         .map_err(|e| SettingsError::new(format!("bounds.{}", e.field), e.to_string()))?;
-    tuning
-        .objective
-        .validate()
-        .map_err(|(field, reason)| SettingsError::new(format!("objective.{field}"), reason))?;
+    tuning.objective.validate().map_err(|(field, reason)| {
+        SettingsError::new(format!("tuning.objective.{field}"), reason)
+    })?;
     let step = tuning.initial_step;
     if !(step.is_finite() && step > 0.0 && step <= 1.0) {
         return Err(SettingsError::new(
-            "initial_step",
+            "tuning.initial_step",
             format!("must be in (0, 1] (a fraction of each variable's range), got {step}"),
         ));
     }
     let radius = settings.base.balloon.radius_mm;
     let meshes = [
-        ("search_mesh", Some(tuning.search_mesh)),
-        ("verify_mesh", Some(tuning.verify_mesh)),
-        ("correction_mesh", tuning.correction_mesh),
-        ("final_refine.mesh", tuning.final_refine.map(|f| f.mesh)),
+        ("tuning.search_mesh", Some(tuning.search_mesh)),
+        ("tuning.verify_mesh", Some(tuning.verify_mesh)),
+        ("tuning.correction_mesh", tuning.correction_mesh),
+        (
+            "tuning.final_refine.mesh",
+            tuning.final_refine.map(|f| f.mesh),
+        ),
     ];
     for (field, mesh) in meshes {
         if let Some(Err(reason)) = mesh.map(|m| m.validate(radius)) {

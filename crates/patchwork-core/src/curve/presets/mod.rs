@@ -361,6 +361,13 @@ mod tests {
     fn parameters_are_validated_by_name() {
         let err = Preset::helix(-1.0, 10.0, 2.0).generate(100).unwrap_err();
         assert!(err.to_string().contains("radius_mm"));
+        // Every parameter is bounded: a 200 m helix radius, a 0.0001 mm one
+        // and a pitch of 1 km are refused, their limits included.
+        for (radius, pitch) in [(2e5, 10.0), (1e-4, 10.0), (20.0, -1e6)] {
+            let err = Preset::helix(radius, pitch, 2.0).generate(100).unwrap_err();
+            assert!(err.to_string().contains("100000"), "{err}");
+        }
+        assert!(Preset::helix(1e5, -1e5, 1e-3).generate(100).is_ok());
         let err = Preset::from_name("helix", serde_json::json!({"radius": 3})).unwrap_err();
         assert!(err.contains("radius"), "{err}");
         let err = Preset::from_name("lissajous", serde_json::json!({})).unwrap_err();

@@ -3,27 +3,33 @@
 
 use super::super::{Curve, CurveError, Point};
 
+/// The largest magnitude of a preset parameter (mm, degrees or turns).
+pub const MAX_PARAMETER: f64 = 1e5;
+/// The smallest value of a parameter that must be positive.
+pub const MIN_POSITIVE_PARAMETER: f64 = 1e-3;
+
+/// A signed parameter: finite, at most [`MAX_PARAMETER`] in magnitude.
 pub(super) fn finite(name: &'static str, value: f64) -> Result<(), CurveError> {
-    if value.is_finite() {
+    if value.is_finite() && value.abs() <= MAX_PARAMETER {
         Ok(())
     } else {
         Err(CurveError::InvalidParameter {
             name,
             value,
-            reason: "must be finite",
+            reason: "must be a number within ±100000",
         })
     }
 }
 
+/// A positive parameter: from [`MIN_POSITIVE_PARAMETER`] to [`MAX_PARAMETER`].
 pub(super) fn positive(name: &'static str, value: f64) -> Result<(), CurveError> {
-    finite(name, value)?;
-    if value > 0.0 {
+    if (MIN_POSITIVE_PARAMETER..=MAX_PARAMETER).contains(&value) {
         Ok(())
     } else {
         Err(CurveError::InvalidParameter {
             name,
             value,
-            reason: "must be positive",
+            reason: "must be between 0.001 and 100000",
         })
     }
 }
