@@ -16,7 +16,7 @@ use patchwork_core::inverse::{
 };
 
 use super::design_summary::summary;
-use super::input::{CurveInput, read_text_argument};
+use super::input::{CurveInput, json_argument};
 use super::output::{emit, emit_json};
 
 #[derive(Args)]
@@ -36,10 +36,10 @@ pub struct DesignArgs {
     /// Forward simulations the search may spend [default: 200].
     #[arg(long)]
     budget: Option<usize>,
-    /// Balloon, patch material and pressure as design JSON (default: the reference scene).
+    /// Balloon, patch material and pressure as design JSON, inline, a file or `-` (default: the reference scene).
     #[arg(long, value_name = "JSON")]
     options: Option<String>,
-    /// Fabrication limits as JSON, e.g. `{"w_min_mm": 0.5}` (fields: the API's `bounds`).
+    /// Fabrication limits as JSON, inline or a file, e.g. `{"w_min_mm": 0.5}` (fields: the API's `bounds`).
     #[arg(long, value_name = "JSON")]
     bounds: Option<String>,
     /// Keep the balloon length of --options instead of fitting it to the curve.
@@ -74,22 +74,17 @@ impl DesignArgs {
     /// overrides, resolved as the API resolves a job.
     pub fn plan(&self) -> Result<Plan> {
         let base: Design = match &self.options {
-            Some(name) => {
-                let text = read_text_argument(name)?;
-                let mut value: serde_json::Value =
-                    serde_json::from_str(&text).with_context(|| format!("{name}: invalid JSON"))?;
+            Some(argument) => {
+                let mut value: serde_json::Value = json_argument("options", argument)?;
                 if let Some(object) = value.as_object_mut() {
                     object.entry("patches").or_insert(serde_json::json!([]));
                 }
-                serde_json::from_value(value)
-                    .with_context(|| format!("{name}: invalid design options"))?
+                serde_json::from_value(value).map_err(|e| anyhow::anyhow!("--options: {e}"))?
             }
             None => Design::reference(vec![]),
         };
         let bounds = match &self.bounds {
-            Some(text) => {
-                serde_json::from_str(text).map_err(|e| anyhow::anyhow!("--bounds: {e}"))?
-            }
+            Some(argument) => json_argument("bounds", argument)?,
             None => Default::default(),
         };
         let settings = UserSettings {
@@ -104,11 +99,7 @@ impl DesignArgs {
             threads: self.threads,
         };
         let overrides: TuningOverrides = match &self.tuning {
-            Some(inline) if inline.trim_start().starts_with('{') => {
-                serde_json::from_str(inline).map_err(|e| anyhow::anyhow!("--tuning: {e}"))?
-            }
-            Some(name) => serde_json::from_str(&read_text_argument(name)?)
-                .map_err(|e| anyhow::anyhow!("--tuning: {name}: {e}"))?,
+            Some(argument) => json_argument("tuning", argument)?,
             None => TuningOverrides::default(),
         };
         Plan::resolve(settings, &overrides).map_err(flag_error)

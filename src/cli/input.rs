@@ -42,6 +42,21 @@ pub fn read_text_argument(name: &str) -> Result<String> {
     }
 }
 
+/// A JSON option's value: inline (`{…}`), or a file to read (`-`: stdin);
+/// errors name the flag (and the file).
+pub fn json_argument<T: serde::de::DeserializeOwned>(flag: &str, argument: &str) -> Result<T> {
+    let parsed = match argument.trim_start().starts_with('{') {
+        true => serde_json::from_str(argument),
+        false => serde_json::from_str(
+            &read_text_argument(argument).with_context(|| format!("--{flag}"))?,
+        ),
+    };
+    parsed.map_err(|e| match argument.trim_start().starts_with('{') {
+        true => anyhow::anyhow!("--{flag}: {e}"),
+        false => anyhow::anyhow!("--{flag}: {argument}: {e}"),
+    })
+}
+
 impl CurveInput {
     /// The curve, smoothed by `--smooth-mm` when given.
     pub fn load(&self) -> Result<Curve> {

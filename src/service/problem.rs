@@ -140,8 +140,8 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Problem> {
             ),
         )
     })?;
-    integral_floats_as_integers(&mut value);
-    if let Some(field) = first_null(&value, "") {
+    if let Err(steps) = normalise(&mut value) {
+        let field = path_of(steps);
         return Err(Problem::invalid(
             field.clone(),
             format!("{field}: null is not a value here; leave the field out for its default"),
@@ -158,12 +158,22 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Problem> {
     })
 }
 
-/// JSON does not tell `12.0` from `12`: a whole number written with a
-/// fraction is taken as the integer (a count field accepts it; a number
-/// field reads the same value).
-fn integral_floats_as_integers(value: &mut serde_json::Value) {
+/// One step of a JSON path, kept only on the way out of a failed walk.
+enum Step {
+    Key(String),
+    Index(usize),
+}
+
+/// Readies a request body for deserialising in one walk: a whole number
+/// written with a fraction becomes the integer (JSON does not tell `12.0`
+/// from `12`: a count field accepts it, a number field reads the same
+/// value); a `null` is refused with its path, innermost step first (no
+/// request field takes one: an absent field has its default, so a null is
+/// a mistake to name rather than a silent default).
+fn normalise(value: &mut serde_json::Value) -> Result<(), Vec<Step>> {
     use serde_json::Value;
     match value {
+        Value::Null => Err(Vec::new()),
         Value::Number(n) if !(n.is_i64() || n.is_u64()) => {
             if let Some(x) = n.as_f64()
                 && x.fract() == 0.0
@@ -171,34 +181,35 @@ fn integral_floats_as_integers(value: &mut serde_json::Value) {
             {
                 *value = Value::from(x as i64);
             }
+            Ok(())
         }
-        Value::Array(items) => items.iter_mut().for_each(integral_floats_as_integers),
-        Value::Object(fields) => fields.values_mut().for_each(integral_floats_as_integers),
-        _ => {}
+        Value::Array(items) => items.iter_mut().enumerate().try_for_each(|(i, item)| {
+            normalise(item).map_err(|mut path| {
+                path.push(Step::Index(i));
+                path
+            })
+        }),
+        Value::Object(fields) => fields.iter_mut().try_for_each(|(key, item)| {
+            normalise(item).map_err(|mut path| {
+                path.push(Step::Key(key.clone()));
+                path
+            })
+        }),
+        _ => Ok(()),
     }
 }
 
-/// The path of the first `null` in a request body: no field of a request
-/// takes one (an absent field has its default), so a null is a mistake to
-/// name rather than a silent default.
-fn first_null(value: &serde_json::Value, path: &str) -> Option<String> {
-    use serde_json::Value;
-    match value {
-        Value::Null => Some(path.to_string()),
-        Value::Array(items) => items
-            .iter()
-            .enumerate()
-            .find_map(|(i, item)| first_null(item, &format!("{path}[{i}]"))),
-        Value::Object(fields) => fields.iter().find_map(|(key, item)| {
-            let path = if path.is_empty() {
-                key.clone()
-            } else {
-                format!("{path}.{key}")
-            };
-            first_null(item, &path)
-        }),
-        _ => None,
+/// `curve.points[3]` from the steps of [`normalise`], innermost first.
+fn path_of(steps: Vec<Step>) -> String {
+    let mut path = String::new();
+    for step in steps.into_iter().rev() {
+        match step {
+            Step::Key(key) if path.is_empty() => path = key,
+            Step::Key(key) => path = format!("{path}.{key}"),
+            Step::Index(i) => path = format!("{path}[{i}]"),
+        }
     }
+    path
 }
 
 /// The JSON path serde blames, completed with the field a "missing field"
@@ -235,6 +246,11 @@ mod tests {
         );
         let problem = null.unwrap_err();
         assert_eq!(problem.field.as_deref(), Some("bounds.w_min_mm"));
+        let deep = parse_json::<JobRequest>(br#"{"curve": {"points": [[0, 0, 0], [1, null, 0]]}}"#);
+        assert_eq!(
+            deep.unwrap_err().field.as_deref(),
+            Some("curve.points[1][1]")
+        );
         assert!(problem.detail.contains("null"), "{}", problem.detail);
     }
 }

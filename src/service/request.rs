@@ -91,7 +91,8 @@ impl JobRequest {
                 format!("must be between 1 and {MAX_BUDGET} evaluations, got {budget}"),
             ));
         }
-        let tuning = self.tuning.clone().unwrap_or_default();
+        let preset = TuningOverrides::default();
+        let tuning = self.tuning.as_ref().unwrap_or(&preset);
         for (field, value) in [
             ("tuning.search_patience", tuning.search_patience),
             ("tuning.polish_budget", tuning.polish_budget),
@@ -119,7 +120,7 @@ impl JobRequest {
             // One job per worker, one worker per core.
             threads: 1,
         };
-        let plan = Plan::resolve(settings, &tuning).map_err(problem_of)?;
+        let plan = Plan::resolve(settings, tuning).map_err(problem_of)?;
         Ok(Prepared { target, plan })
     }
 }

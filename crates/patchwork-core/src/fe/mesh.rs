@@ -81,8 +81,6 @@ impl MeshSpec {
         }
     }
 
-    /// Whether `straight_mm` is a usable bare-stretch size for elements of
-    /// `element_mm`: from the element size up to 100 times it.
     /// About how many nodes this mesh has at most on a balloon of `radius_mm`
     /// and `length_mm`, before any is built: every ring as fine as under a
     /// patch (the end caps add a few per cent).
@@ -94,6 +92,8 @@ impl MeshSpec {
         around as f64 * (length_mm / self.element_mm + 2.0)
     }
 
+    /// Whether `straight_mm` is a usable bare-stretch size for elements of
+    /// `element_mm`: from the element size up to 100 times it.
     pub fn straight_fits(element_mm: f64, straight_mm: f64) -> bool {
         straight_mm.is_finite() && straight_mm >= element_mm && straight_mm <= 100.0 * element_mm
     }

@@ -94,9 +94,11 @@ pub struct Simulation {
     pub patch_share: Vec<f64>,
 }
 
-/// The most mesh nodes one solve may use (about 2 GB of memory; a 2 m
-/// balloon on a uniform 0.5 mm mesh has 0.16 million).
-pub const MAX_NODES: f64 = 1e6;
+/// The most mesh nodes one solve may use: a solve takes about 8 KB of
+/// memory per node (BENCHMARKS.md, "Forward solve"), so this is about
+/// 3 GB — a 5 m balloon on a uniform 0.5 mm mesh (the 2 m helix of the
+/// stress suite has 0.16 million).
+pub const MAX_NODES: f64 = 4e5;
 
 /// Simulates `design` under `options`, starting from the closed-form bare tube.
 pub fn simulate(design: &Design, options: &SimulateOptions) -> Result<Simulation, SimulateError> {

@@ -80,23 +80,29 @@ impl Plan {
         check_overrides(overrides)?;
         let preset = settings.fidelity.tuning(settings.base.balloon.radius_mm);
         let tuning = overrides.apply(preset);
-        Plan::with_tuning(settings, tuning).map_err(|error| {
-            // A model's mesh comes from the preset unless the expert set one:
-            // a preset mesh fails only on a balloon too thin for it.
-            if !error.field.ends_with("_mesh") && !error.field.ends_with(".mesh") {
-                error
-            } else if overrides.uniform_mesh_mm.is_some() {
-                SettingsError::new("tuning.uniform_mesh_mm", error.reason)
-            } else {
-                SettingsError::new("design.balloon.radius_mm", error.reason)
-            }
-        })
+        // A model's mesh is the preset's unless the expert set one: a
+        // preset mesh fails only on a balloon too thin for it.
+        let mesh_field = match overrides.uniform_mesh_mm {
+            Some(_) => "tuning.uniform_mesh_mm",
+            None => "design.balloon.radius_mm",
+        };
+        Plan::checked(settings, tuning, &|_| mesh_field.to_string())
     }
 
     /// The plan of `settings` with a complete `tuning` of the caller's (the
     /// settings' fidelity is then only a label).
     pub fn with_tuning(settings: UserSettings, tuning: Tuning) -> Result<Plan, SettingsError> {
-        check(&settings, &tuning)?;
+        Plan::checked(settings, tuning, &|mesh| format!("tuning.{mesh}"))
+    }
+
+    /// The plan, its settings checked; a mesh that does not fit the balloon
+    /// is blamed on the field `mesh_field` names for that model's mesh.
+    fn checked(
+        settings: UserSettings,
+        tuning: Tuning,
+        mesh_field: &dyn Fn(&str) -> String,
+    ) -> Result<Plan, SettingsError> {
+        check(&settings, &tuning, mesh_field)?;
         let stages = stages(&settings, &tuning);
         Ok(Plan {
             settings,
@@ -212,8 +218,13 @@ fn check_overrides(overrides: &TuningOverrides) -> Result<(), SettingsError> {
     Ok(())
 }
 
-/// Every setting a run would otherwise fail on late, naming the field.
-fn check(settings: &UserSettings, tuning: &Tuning) -> Result<(), SettingsError> {
+/// Every setting a run would otherwise fail on late, naming the field
+/// (`mesh_field` names the field a model's mesh came from).
+fn check(
+    settings: &UserSettings,
+    tuning: &Tuning,
+    mesh_field: &dyn Fn(&str) -> String,
+) -> Result<(), SettingsError> {
     crate::design::Design {
         patches: vec![],
         ..settings.base.clone()
@@ -250,17 +261,14 @@ fn check(settings: &UserSettings, tuning: &Tuning) -> Result<(), SettingsError> 
     }
     let radius = settings.base.balloon.radius_mm;
     let meshes = [
-        ("tuning.search_mesh", Some(tuning.search_mesh)),
-        ("tuning.verify_mesh", Some(tuning.verify_mesh)),
-        ("tuning.correction_mesh", tuning.correction_mesh),
-        (
-            "tuning.final_refine.mesh",
-            tuning.final_refine.map(|f| f.mesh),
-        ),
+        ("search_mesh", Some(tuning.search_mesh)),
+        ("verify_mesh", Some(tuning.verify_mesh)),
+        ("correction_mesh", tuning.correction_mesh),
+        ("final_refine.mesh", tuning.final_refine.map(|f| f.mesh)),
     ];
-    for (field, mesh) in meshes {
+    for (model, mesh) in meshes {
         if let Some(Err(reason)) = mesh.map(|m| m.validate(radius)) {
-            return Err(SettingsError::new(field, reason));
+            return Err(SettingsError::new(mesh_field(model), reason));
         }
     }
     Ok(())
