@@ -16,6 +16,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
+use patchwork_core::chart::{self, Axis, COLOURS, Mark, Panel, Series};
 use patchwork_core::curve::{Curve, shape_error};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::simulate;
@@ -296,102 +297,64 @@ fn table(rows: &[Row], command: &str) -> String {
     out
 }
 
-/// Shape error against wall time (log scale), a colour per curve, each curve's
-/// Pareto front (no other setting both faster and more accurate) joined.
+/// Shape error against wall time (log scale), a colour per curve, each
+/// curve's Pareto front (no other setting both faster and more accurate)
+/// joined by a line.
 fn plot(rows: &[Row]) -> String {
-    const W: f64 = 720.0;
-    const H: f64 = 440.0;
-    const M: f64 = 60.0;
-    const COLOURS: [&str; 6] = [
-        "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
-    ];
     let ok: Vec<&Row> = rows
         .iter()
         .filter(|r| r.figures.wall_s.is_finite() && r.figures.reference_error_percent.is_finite())
         .collect();
-    let (t_lo, t_hi) = ok.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
-        (a.min(r.figures.wall_s.max(1e-3)), b.max(r.figures.wall_s))
-    });
-    let e_hi = ok
-        .iter()
-        .fold(0.0f64, |a, r| a.max(r.figures.reference_error_percent))
-        * 1.1
-        + 1e-9;
-    let (lx0, lx1) = (
-        t_lo.log10().floor(),
-        t_hi.log10().ceil().max(t_lo.log10().floor() + 1.0),
-    );
-    let x = |t: f64| M + (t.max(1e-3).log10() - lx0) / (lx1 - lx0) * (W - 2.0 * M);
-    let y = |e: f64| H - M - e / e_hi * (H - 2.0 * M);
-    let mut svg = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{W}\" height=\"{H}\" font-family=\"sans-serif\" font-size=\"12\">\n\
-         <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
-         <line x1=\"{M}\" y1=\"{b}\" x2=\"{r}\" y2=\"{b}\" stroke=\"black\"/>\n\
-         <line x1=\"{M}\" y1=\"{M}\" x2=\"{M}\" y2=\"{b}\" stroke=\"black\"/>\n\
-         <text x=\"{cx}\" y=\"{tb}\" text-anchor=\"middle\">wall time (s, log scale)</text>\n\
-         <text x=\"15\" y=\"{cy}\" transform=\"rotate(-90 15 {cy})\" text-anchor=\"middle\">shape error on the reference model (% of length)</text>\n",
-        b = H - M,
-        r = W - M,
-        cx = W / 2.0,
-        tb = H - 15.0,
-        cy = H / 2.0
-    );
-    let mut decade = lx0;
-    while decade <= lx1 {
-        let t = 10f64.powf(decade);
-        svg.push_str(&format!(
-            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{t}</text>\n",
-            x(t),
-            H - M + 16.0
-        ));
-        decade += 1.0;
-    }
-    for k in 0..=4 {
-        let e = e_hi * k as f64 / 4.0;
-        svg.push_str(&format!(
-            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{e:.1}</text>\n",
-            M - 6.0,
-            y(e) + 4.0
-        ));
-    }
     let mut curves: Vec<&str> = Vec::new();
     for r in &ok {
         if !curves.contains(&r.curve.as_str()) {
             curves.push(&r.curve);
         }
     }
+    let mut series = Vec::new();
     for (i, name) in curves.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
-        let mut points: Vec<&&Row> = ok.iter().filter(|r| r.curve == *name).collect();
-        points.sort_by(|a, b| a.figures.wall_s.total_cmp(&b.figures.wall_s));
-        let mut front = Vec::new();
+        let mut points: Vec<(f64, f64)> = ok
+            .iter()
+            .filter(|r| r.curve == *name)
+            .map(|r| (r.figures.wall_s, r.figures.reference_error_percent))
+            .collect();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut best = f64::INFINITY;
-        for r in &points {
-            if r.figures.reference_error_percent < best {
-                best = r.figures.reference_error_percent;
-                front.push(format!(
-                    "{:.1},{:.1}",
-                    x(r.figures.wall_s),
-                    y(r.figures.reference_error_percent)
-                ));
-            }
-            svg.push_str(&format!(
-                "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"4\" fill=\"{colour}\"><title>{name}: {} — {:.2} s, {:.2} %</title></circle>\n",
-                x(r.figures.wall_s),
-                y(r.figures.reference_error_percent),
-                r.setting,
-                r.figures.wall_s,
-                r.figures.reference_error_percent
-            ));
-        }
-        svg.push_str(&format!(
-            "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"/>\n\
-             <text x=\"{:.1}\" y=\"{:.1}\" fill=\"{colour}\">{name}</text>\n",
-            front.join(" "),
-            W - M - 230.0,
-            M + 16.0 * i as f64
-        ));
+        let front = points
+            .iter()
+            .filter(|(_, error)| {
+                let better = *error < best;
+                best = best.min(*error);
+                better
+            })
+            .copied()
+            .collect();
+        series.push(Series {
+            name: Some(name.to_string()),
+            colour,
+            mark: Mark::Dots,
+            points,
+        });
+        series.push(Series {
+            name: None,
+            colour,
+            mark: Mark::Line,
+            points: front,
+        });
     }
-    svg.push_str("</svg>\n");
-    svg
+    chart::svg(&[Panel {
+        title: "Shape error against wall time (lines: each curve's Pareto front)".into(),
+        x: Axis::log(
+            "wall time (s, log scale)",
+            ok.iter().map(|r| r.figures.wall_s),
+        ),
+        y: Axis::linear(
+            "shape error, reference model (% of length)",
+            ok.iter()
+                .map(|r| r.figures.reference_error_percent)
+                .chain([0.0]),
+        ),
+        series,
+    }])
 }

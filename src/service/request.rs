@@ -3,6 +3,7 @@
 
 use patchwork_core::curve::{Curve, Preset, Units, points_from_json, read_text};
 use patchwork_core::design::Design;
+use patchwork_core::inverse::input::check_smoothing;
 use patchwork_core::inverse::{
     Fidelity, Freedom, Plan, SettingsError, Smoothing, TuningOverrides, UserSettings,
     VariableBounds,
@@ -14,6 +15,9 @@ use super::problem::{Problem, field_of};
 
 /// Most forward evaluations one job may ask for.
 pub const MAX_BUDGET: usize = 100_000;
+/// The largest seed: 2⁵³ − 1, the largest integer every JSON reader (a
+/// browser's included) keeps exact, so that a result's seed reproduces it.
+pub const MAX_SEED: u64 = (1 << 53) - 1;
 
 /// The target curve: exactly one of `points`, `csv` or `preset`.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -91,6 +95,13 @@ impl JobRequest {
                 format!("must be between 1 and {MAX_BUDGET} evaluations, got {budget}"),
             ));
         }
+        let seed = self.options.seed.unwrap_or(1);
+        if seed > MAX_SEED {
+            return Err(Problem::invalid(
+                "options.seed",
+                format!("must be at most {MAX_SEED} (2^53 - 1), got {seed}"),
+            ));
+        }
         let preset = TuningOverrides::default();
         let tuning = self.tuning.as_ref().unwrap_or(&preset);
         for (field, value) in [
@@ -108,7 +119,7 @@ impl JobRequest {
         let settings = UserSettings {
             base,
             fidelity,
-            seed: self.options.seed.unwrap_or(1),
+            seed,
             budget: self.options.budget,
             bounds: self.bounds.unwrap_or_default(),
             freedom: self.freedom.unwrap_or_default(),
@@ -120,6 +131,8 @@ impl JobRequest {
             // One job per worker, one worker per core.
             threads: 1,
         };
+        check_smoothing(&target, settings.smoothing)
+            .map_err(|e| Problem::invalid("options.smooth_mm", e.to_string()))?;
         let plan = Plan::resolve(settings, tuning).map_err(problem_of)?;
         Ok(Prepared { target, plan })
     }

@@ -14,6 +14,8 @@ import schemathesis
 BALLOON = {"length_mm": 292.0, "radius_mm": 3.18, "wall_mm": 0.183}
 BOUNDS = {"h_min_mm": 10.0, "h_max_mm": 30.0, "w_min_mm": 1.0, "w_max_mm": 3.0}
 HILBERT = {"edge_mm": 144.0, "corner_radius_mm": 47.0}
+# Millimetres per unit of a curve's coordinates.
+UNITS_MM = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4}
 # The coarsest element of every preset's models (the search mesh), mm.
 PRESET_ELEMENT_MM = 3.0
 # The default mesh of POST /v1/simulate under patches, mm.
@@ -25,9 +27,18 @@ def _dict(value):
 
 
 def _distinct_successive(points):
+    """As the server counts them: successive points closer than 1e-9 × the
+    diagonal of the bounding box are one point."""
+    if not points:
+        return 0
+    diagonal = math.dist(
+        [min(p[i] for p in points) for i in range(3)],
+        [max(p[i] for p in points) for i in range(3)],
+    )
+    tolerance = 1e-9 * max(diagonal, 1e-12)
     kept = []
     for point in points:
-        if not kept or kept[-1] != point:
+        if not kept or math.dist(kept[-1], point) > tolerance:
             kept.append(point)
     return len(kept)
 
@@ -35,6 +46,30 @@ def _distinct_successive(points):
 def _csv_points(text):
     rows = [line.split("#")[0].strip() for line in text.splitlines()]
     return [tuple(float(v) for v in row.split(",")) for row in rows if row]
+
+
+def _curve_points(curve):
+    """The points of a points or csv curve; None for a preset."""
+    if isinstance(curve.get("points"), list):
+        return [tuple(p) for p in curve["points"] if isinstance(p, list)]
+    if isinstance(curve.get("csv"), str):
+        return _csv_points(curve["csv"])
+    return None
+
+
+def smoothing_ok(body):
+    """`options.smooth_mm` is at most a quarter of the curve's length. A
+    preset's length depends on its parameters: a preset with smoothing is
+    skipped."""
+    sigma = _dict(body.get("options")).get("smooth_mm")
+    if not sigma:
+        return True
+    points = _curve_points(_dict(body.get("curve")))
+    if points is None:
+        return False
+    scale = UNITS_MM.get(body.get("units", "mm"), 1.0)
+    length = scale * sum(math.dist(a, b) for a, b in zip(points, points[1:]))
+    return sigma <= length / 4
 
 
 def curve_ok(curve):
@@ -46,7 +81,7 @@ def curve_ok(curve):
             return _distinct_successive(points) >= 4
         if isinstance(curve.get("csv"), str):
             return _distinct_successive(_csv_points(curve["csv"])) >= 4
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, IndexError):
         return True  # not a plain curve: a negative case, left to the server
     if curve.get("preset") == "hilbert":
         params = {**HILBERT, **_dict(curve.get("params"))}
@@ -93,6 +128,7 @@ def job_ok(body):
     mesh = _dict(body.get("tuning")).get("uniform_mesh_mm", PRESET_ELEMENT_MM)
     return (
         curve_ok(body.get("curve"))
+        and smoothing_ok(body)
         and bounds_ok(body.get("bounds"))
         and balloon_ok(body.get("design"), mesh)
     )
@@ -123,5 +159,5 @@ def filter_case(ctx, case):
         return True
     try:
         return rule(body)
-    except (KeyError, TypeError, ValueError, OverflowError):
+    except (KeyError, TypeError, ValueError, OverflowError, IndexError):
         return True  # a body the schema would not allow: a negative case

@@ -102,6 +102,14 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "options.budget",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "options": {"seed": 9_007_199_254_740_992_u64}}),
+            "options.seed",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "options": {"smooth_mm": 1e9}}),
+            "options.smooth_mm",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "tuning": {"refine_budget": 10_000_000}}),
             "tuning.refine_budget",
         ),
@@ -284,6 +292,14 @@ async fn bad_queries_headers_routes_and_quick_looks() {
         api.post("/v1/simulate", &angle).await,
         422,
         Some("design.patches[0].theta_deg"),
+    )
+    .await;
+    // A patch a kilometre long: past what the description allows.
+    let huge = json!({"design": {"patches": [{"x_mm": 0, "y_mm": 30, "h_mm": 2e6, "w_mm": 2, "theta_deg": 0}]}});
+    assert_problem(
+        api.post("/v1/simulate", &huge).await,
+        422,
+        Some("design.patches[0].h_mm"),
     )
     .await;
     let typo = json!({"design": {"patches": [], "presure_kpa": 20}});

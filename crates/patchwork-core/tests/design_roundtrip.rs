@@ -500,6 +500,53 @@ fn cancellation_reaches_the_refine() {
     ));
 }
 
+/// Cancelling while the reach table is computed stops its solves: the run
+/// ends cancelled and reports no reach (the table was left unfinished), so
+/// a job's time limit holds in every stage, not only in the search.
+#[test]
+fn cancellation_reaches_the_reach_table() {
+    use patchwork_core::inverse::reach::ReachReport;
+    use patchwork_core::inverse::{Caches, DesignProgress, Observer, design_resumable};
+    struct CancelAtReach<'a> {
+        cancel: &'a AtomicBool,
+        entered: bool,
+        reports: usize,
+    }
+    impl Observer for CancelAtReach<'_> {
+        fn progress(&mut self, p: &DesignProgress) {
+            if p.stage == Stage::Reach {
+                self.entered = true;
+                self.cancel
+                    .store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+        }
+        fn reach(&mut self, _: &ReachReport) {
+            self.reports += 1;
+        }
+    }
+    let (request, target) = small_request(16);
+    let cancel = AtomicBool::new(false);
+    let mut observer = CancelAtReach {
+        cancel: &cancel,
+        entered: false,
+        reports: 0,
+    };
+    let result = design_resumable(
+        &target,
+        &request.plan(),
+        None,
+        &Caches::default(),
+        &cancel,
+        &mut observer,
+    );
+    assert!(observer.entered, "the run has no reach stage");
+    assert_eq!(observer.reports, 0, "the table was finished and reported");
+    assert!(matches!(
+        result,
+        Err(patchwork_core::inverse::DesignRunError::Cancelled)
+    ));
+}
+
 #[test]
 fn cancellation_stops_the_run() {
     let (base, target) = one_patch_target(

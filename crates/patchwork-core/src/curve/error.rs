@@ -65,4 +65,9 @@ pub enum CurveError {
     },
     #[error("smoothing length must be finite and ≥ 0 mm, got {0}")]
     InvalidSmoothing(f64),
+    #[error(
+        "smoothing σ = {sigma_mm} mm is more than a quarter of the curve's length \
+         ({length_mm:.1} mm): it would smooth the curve flat"
+    )]
+    SmoothingTooLong { sigma_mm: f64, length_mm: f64 },
 }

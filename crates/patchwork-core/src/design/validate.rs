@@ -19,14 +19,29 @@ fn error(field: impl Into<String>, reason: impl Into<String>) -> DesignError {
     }
 }
 
+/// The largest length or position a design may state, mm: a kilometre,
+/// beyond any balloon, and small enough that sums on the mesh keep
+/// sub-micrometre precision.
+pub const MAX_MM: f64 = 1e6;
+
 fn positive(field: &str, value: f64) -> Result<(), DesignError> {
-    if value.is_finite() && value > 0.0 {
+    if value.is_finite() && value > 0.0 && value <= MAX_MM {
         Ok(())
     } else {
         Err(error(
             field,
-            format!("must be a finite positive number, got {value}"),
+            format!("must be a positive number of at most {MAX_MM:e} mm, got {value}"),
         ))
+    }
+}
+
+fn position(field: &str, value: f64) -> Result<(), DesignError> {
+    match value.is_finite() && value.abs() <= MAX_MM {
+        true => Ok(()),
+        false => Err(error(
+            field,
+            format!("must be within ±{MAX_MM:e} mm, got {value}"),
+        )),
     }
 }
 
@@ -81,18 +96,8 @@ impl Design {
 
 fn validate_patch(i: usize, p: &Patch, length: f64) -> Result<(), DesignError> {
     let field = |name: &str| format!("patches[{i}].{name}");
-    if !p.x_mm.is_finite() {
-        return Err(error(
-            field("x_mm"),
-            format!("must be finite, got {}", p.x_mm),
-        ));
-    }
-    if !p.y_mm.is_finite() {
-        return Err(error(
-            field("y_mm"),
-            format!("must be finite, got {}", p.y_mm),
-        ));
-    }
+    position(&field("x_mm"), p.x_mm)?;
+    position(&field("y_mm"), p.y_mm)?;
     positive(&field("h_mm"), p.h_mm)?;
     positive(&field("w_mm"), p.w_mm)?;
     if !(p.theta_deg.is_finite() && p.theta_deg.abs() <= 90.0) {

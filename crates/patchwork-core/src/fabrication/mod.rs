@@ -49,11 +49,7 @@ pub fn design_files(report: &crate::inverse::DesignReport) -> Result<Vec<OutputF
     };
     let mut json = serde_json::to_string_pretty(report).map_err(|e| e.to_string())?;
     json.push('\n');
-    let p = &report.profiles;
-    let profiles = profiles_svg(
-        (&p.target_curvature_per_mm, &p.target_torsion_per_mm),
-        (&p.curvature_per_mm, &p.torsion_per_mm),
-    );
+    let profiles = profiles_svg(&report.profiles, report.target_length_mm);
     Ok(vec![
         file("design.json", "application/json", json.into_bytes()),
         file(

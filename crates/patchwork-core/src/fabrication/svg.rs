@@ -4,60 +4,124 @@
 use std::fmt::Write;
 
 use super::geometry::sheet_pieces;
+use crate::chart::{self, Axis, COLOURS, Mark, Panel, Series};
 use crate::design::Design;
+use crate::inverse::Profiles;
 
-/// `template.svg`: as `template.dxf`, in an SVG whose user unit is 1 mm.
+/// Margins of the template sheet round the unrolled balloon, mm.
+const LEFT_MM: f64 = 24.0;
+const TOP_MM: f64 = 18.0;
+const BOTTOM_MM: f64 = 22.0;
+const RIGHT_MM: f64 = 20.0;
+/// Text height on the template, mm.
+const TEXT_MM: f64 = 2.2;
+
+/// `template.svg`: as `template.dxf`, in an SVG whose user unit is 1 mm
+/// (prints to scale at 100 %): the unrolled balloon (X round it from the
+/// seam, Y along it from the clamped base) with every patch outlined and
+/// numbered as in `design.csv`, a Y scale every 10 mm, the circumference and
+/// length dimensioned, and a 10 mm bar to check the print scale.
 pub fn template_svg(design: &Design) -> String {
     let (c, l) = (design.balloon.circumference(), design.balloon.length_mm);
-    let (margin, w, h) = (20.0, c + 40.0, l + 30.0);
-    let mut s = String::new();
-    // y grows downward in SVG: draw with Y up by flipping about the sheet.
+    let (w, h) = (LEFT_MM + c + RIGHT_MM, TOP_MM + l + BOTTOM_MM);
+    // Sheet coordinates (X right, Y up from the base) to SVG's (y down).
+    let at = |x: f64, y: f64| (LEFT_MM + x, TOP_MM + l - y);
+    let mut s = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.2}mm" height="{h:.2}mm" viewBox="0 0 {w:.2} {h:.2}" font-family="sans-serif" font-size="{TEXT_MM}">"#
+    );
+    s.push_str(r#"<rect width="100%" height="100%" fill="white"/>"#);
+    s.push_str(r#"<g fill="none" stroke="black" stroke-width="0.2">"#);
+    let line = |s: &mut String, a: (f64, f64), b: (f64, f64)| {
+        let ((x1, y1), (x2, y2)) = (at(a.0, a.1), at(b.0, b.1));
+        let _ = write!(
+            s,
+            r#"<line x1="{x1:.3}" y1="{y1:.3}" x2="{x2:.3}" y2="{y2:.3}"/>"#
+        );
+    };
+    let (x0, y0) = at(0.0, l);
     let _ = write!(
         s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}mm" height="{h}mm" viewBox="0 0 {w} {h}">"#
+        r#"<rect x="{x0}" y="{y0}" width="{c:.3}" height="{l:.3}"/>"#
     );
-    let _ = write!(
-        s,
-        r#"<g transform="translate({margin} {}) scale(1 -1)" fill="none" stroke="black" stroke-width="0.2">"#,
-        l + 10.0
-    );
-    let _ = write!(s, r#"<rect x="0" y="0" width="{c}" height="{l}"/>"#);
     for k in 0..=(l / 10.0).floor() as usize {
         let y = 10.0 * k as f64;
         let tick = if k % 5 == 0 { 4.0 } else { 2.0 };
-        let _ = write!(s, r#"<line x1="{}" y1="{y}" x2="0" y2="{y}"/>"#, -tick);
+        line(&mut s, (-tick, y), (0.0, y));
     }
+    // Dimension lines: the circumference above the sheet, the length on
+    // its right, each with end marks.
+    let above = l + 6.0;
+    line(&mut s, (0.0, above), (c, above));
+    for x in [0.0, c] {
+        line(&mut s, (x, above - 2.0), (x, above + 2.0));
+    }
+    let right = c + 6.0;
+    line(&mut s, (right, 0.0), (right, l));
+    for y in [0.0, l] {
+        line(&mut s, (right - 2.0, y), (right + 2.0, y));
+    }
+    // The scale bar, below the base label.
+    line(&mut s, (0.0, -14.0), (10.0, -14.0));
+    for x in [0.0, 10.0] {
+        line(&mut s, (x, -15.0), (x, -13.0));
+    }
+    s.push_str("</g>");
     for p in &design.patches {
         for piece in sheet_pieces(p, c, l) {
             let points: Vec<String> = piece
                 .iter()
-                .map(|q| format!("{:.3},{:.3}", q[0], q[1]))
+                .map(|q| {
+                    let (x, y) = at(q[0], q[1]);
+                    format!("{x:.3},{y:.3}")
+                })
                 .collect();
             let _ = write!(
                 s,
-                r#"<polygon points="{}" stroke="red"/>"#,
+                r#"<polygon points="{}" fill="none" stroke="red" stroke-width="0.2"/>"#,
                 points.join(" ")
             );
         }
     }
-    s.push_str("</g>");
-    let label = |s: &mut String, x: f64, y: f64, text: &str| {
+    let text = |s: &mut String, (x, y): (f64, f64), anchor: &str, words: &str| {
+        let (x, y) = at(x, y);
         let _ = write!(
             s,
-            r#"<text x="{:.2}" y="{:.2}" font-size="2" font-family="sans-serif">{text}</text>"#,
-            x + margin,
-            l + 10.0 - y
+            r#"<text x="{x:.2}" y="{y:.2}" text-anchor="{anchor}">{words}</text>"#
         );
     };
-    label(&mut s, -1.0, -4.0, "BASE (clamped end)");
     for k in (0..=(l / 50.0).floor() as usize).map(|k| 50.0 * k as f64) {
-        label(&mut s, -18.0, k - 0.7, &format!("{k:.0}"));
+        text(&mut s, (-5.0, k - 0.7), "end", &format!("{k:.0}"));
     }
+    text(
+        &mut s,
+        (c / 2.0, above + 1.0),
+        "middle",
+        &format!("{c:.2} mm round"),
+    );
+    let (lx, ly) = at(right + 2.5, l / 2.0);
+    let _ = write!(
+        s,
+        r#"<text transform="translate({lx:.2} {ly:.2}) rotate(90)" text-anchor="middle">{l:.1} mm to cut</text>"#
+    );
+    text(
+        &mut s,
+        (-LEFT_MM + 2.0, l + 10.5),
+        "start",
+        "Y: mm from the base",
+    );
+    text(
+        &mut s,
+        (-LEFT_MM + 2.0, l + 13.5),
+        "start",
+        "X: round from the seam",
+    );
+    text(&mut s, (0.0, -5.0), "start", "BASE (clamped end)");
+    text(&mut s, (12.0, -14.8), "start", "10 mm at 100 %");
     for (i, p) in design.patches.iter().enumerate() {
-        label(
+        text(
             &mut s,
-            p.x_mm.rem_euclid(c) + 0.5,
-            p.y_mm,
+            (p.x_mm.rem_euclid(c) + 0.5, p.y_mm),
+            "start",
             &format!("P{}", i + 1),
         );
     }
@@ -65,56 +129,58 @@ pub fn template_svg(design: &Design) -> String {
     s
 }
 
-/// `profiles.svg`: κ(s) and τ(s) on normalised arc length, target (grey)
-/// against achieved (blue).
-pub fn profiles_svg(target: (&[f64], &[f64]), achieved: (&[f64], &[f64])) -> String {
-    let (w, h, pad) = (640.0, 220.0, 40.0);
-    let mut s = format!(
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{}" viewBox="0 0 {w} {}" font-family="sans-serif" font-size="11">"#,
-        2.0 * h,
-        2.0 * h
-    );
-    for (row, (name, t, a)) in [
-        ("curvature κ (1/mm)", target.0, achieved.0),
-        ("torsion τ (1/mm)", target.1, achieved.1),
-    ]
-    .into_iter()
-    .enumerate()
-    {
-        let top = row as f64 * h;
-        let all = t.iter().chain(a).copied().filter(|v| v.is_finite());
-        let (lo, hi) = all.fold((0.0_f64, 0.0_f64), |(l, u), v| (l.min(v), u.max(v)));
-        let span = (hi - lo).max(1e-9);
-        let map = |i: usize, n: usize, v: f64| {
-            let x = pad + (w - 2.0 * pad) * i as f64 / (n.max(2) - 1) as f64;
-            let y = top + h - pad / 2.0 - (h - pad) * (v - lo) / span;
-            format!("{x:.1},{y:.1}")
+/// The least span of a profile plot's y axis, 1/mm.
+const FLOOR: f64 = 0.01;
+
+/// `profiles.svg`: curvature κ(s) and torsion τ(s) along the curve, the
+/// target against the verified design, on the same fractions of length
+/// (plotted against the target's length, in mm).
+pub fn profiles_svg(profiles: &Profiles, target_length_mm: f64) -> String {
+    let along = |values: &[f64]| -> Vec<(f64, f64)> {
+        let last = values.len().max(2) - 1;
+        values
+            .iter()
+            .enumerate()
+            .map(|(i, v)| (target_length_mm * i as f64 / last as f64, *v))
+            .collect()
+    };
+    let x_axis = || Axis::linear("position along the curve, s (mm)", [0.0, target_length_mm]);
+    // Each y axis spans at least `FLOOR`, so that the round-off torsion of
+    // a planar design (1e-9/mm) draws as the flat line it is.
+    let panel =
+        |title: &str, label: &str, target: &[f64], achieved: &[f64], floor: [f64; 2]| Panel {
+            title: title.into(),
+            x: x_axis(),
+            y: Axis::linear(label, target.iter().chain(achieved).copied().chain(floor)),
+            series: vec![
+                Series {
+                    name: Some("target".into()),
+                    colour: "#555555",
+                    mark: Mark::Dashed,
+                    points: along(target),
+                },
+                Series {
+                    name: Some("design, inflated".into()),
+                    colour: COLOURS[0],
+                    mark: Mark::Line,
+                    points: along(achieved),
+                },
+            ],
         };
-        let _ = write!(
-            s,
-            r#"<text x="{pad}" y="{}">{name}; s / L from 0 to 1; target grey, achieved blue</text>"#,
-            top + 14.0
-        );
-        let _ = write!(
-            s,
-            r##"<rect x="{pad}" y="{}" width="{}" height="{}" fill="none" stroke="#ccc"/>"##,
-            top + pad / 2.0,
-            w - 2.0 * pad,
-            h - pad
-        );
-        for (values, colour) in [(t, "#888"), (a, "#1f5fd0")] {
-            let points: Vec<String> = values
-                .iter()
-                .enumerate()
-                .map(|(i, v)| map(i, values.len(), if v.is_finite() { *v } else { 0.0 }))
-                .collect();
-            let _ = write!(
-                s,
-                r#"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="1.5"/>"#,
-                points.join(" ")
-            );
-        }
-    }
-    s.push_str("</svg>\n");
-    s
+    chart::svg(&[
+        panel(
+            "Curvature",
+            "curvature κ (1/mm)",
+            &profiles.target_curvature_per_mm,
+            &profiles.curvature_per_mm,
+            [0.0, FLOOR],
+        ),
+        panel(
+            "Torsion",
+            "torsion τ (1/mm)",
+            &profiles.target_torsion_per_mm,
+            &profiles.torsion_per_mm,
+            [-FLOOR / 2.0, FLOOR / 2.0],
+        ),
+    ])
 }

@@ -175,9 +175,15 @@ pub fn simulate_with(
             .then(|| kinematic_state(design, &model.mesh, tube_state, KINEMATIC_SCALE))
     })
     .flatten();
+    // The time limit holds for the whole simulation: each solve gets what
+    // is left of it.
+    let left = || NewtonOptions {
+        time_limit: options.newton.time_limit.saturating_sub(started.elapsed()),
+        ..options.newton
+    };
     let solved = warm.into_iter().chain(kinematic).find_map(|mut x| {
         let s = solver
-            .solve(&model, &model.sections, &mut x, &options.newton)
+            .solve(&model, &model.sections, &mut x, &left())
             .ok()?;
         Some((x, s))
     });
@@ -200,7 +206,7 @@ pub fn simulate_with(
         let target = (done + step).min(1.0);
         let sections = model.sections_at(design, target);
         let mut trial = x.clone();
-        match solver.solve(&model, &sections, &mut trial, &options.newton) {
+        match solver.solve(&model, &sections, &mut trial, &left()) {
             Ok(s) => {
                 steps += 1;
                 stats.accumulate(&s);

@@ -48,6 +48,7 @@ pub fn design_resumable(
     let setup = Setup::new(&target, input, plan.settings(), plan.tuning());
     let mut run = plan.seed().run(setup, resume, &mut ctx)?;
     for stage in plan.stages() {
+        ctx.check_cancelled()?;
         stage.stage().run(&mut run, &mut ctx)?;
     }
     outcome(run, &ctx)

@@ -60,6 +60,7 @@ pub fn prepare(
     smoothing: Smoothing,
     kappa_tol: f64,
 ) -> Result<(Curve, InputReport), CurveError> {
+    check_smoothing(target, smoothing)?;
     let noise = target.noise_estimate();
     let (sigma, automatic) = match smoothing {
         Smoothing::Sigma(sigma) => (sigma, false),
@@ -83,6 +84,21 @@ pub fn prepare(
         planar_design: false,
     };
     Ok((prepared, report))
+}
+
+/// A user's smoothing σ must be at most a quarter of the target's length:
+/// a longer one smooths every bend away.
+pub fn check_smoothing(target: &Curve, smoothing: Smoothing) -> Result<(), CurveError> {
+    let length_mm = target.length();
+    match smoothing {
+        Smoothing::Sigma(sigma_mm) if sigma_mm > length_mm / 4.0 => {
+            Err(CurveError::SmoothingTooLong {
+                sigma_mm,
+                length_mm,
+            })
+        }
+        _ => Ok(()),
+    }
 }
 
 /// The curve with each end point replaced by a quadratic fitted, in arc

@@ -11,6 +11,8 @@
 //! round it along the patch (tan Θ = φR₀/H, as KSA has it), which twists the
 //! centreline far more than the material twists.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use serde::{Deserialize, Serialize};
 
 use crate::curve::{AnalysisOptions, Curve, Point, analyse};
@@ -76,11 +78,14 @@ impl ReachTable {
     /// The table for `base`'s balloon, patch material and pressure, over
     /// `bounds`' widths and angles, on `model`. A width or angle whose
     /// balloon does not solve is left out; an error only if none solves.
+    /// Once `cancel` is set no further solve starts and the table holds
+    /// what was solved before: the caller checks `cancel` before using it.
     pub fn compute(
         base: &Design,
         bounds: &VariableBounds,
         model: &SimulateOptions,
         caches: &Caches,
+        cancel: &AtomicBool,
     ) -> Result<ReachTable, SimulateError> {
         let h = bounds.h_max_mm;
         let mut entries = Vec::new();
@@ -91,6 +96,9 @@ impl ReachTable {
                 .into_iter()
                 .filter(|t| *t <= bounds.theta_limit_deg)
             {
+                if cancel.load(Ordering::Relaxed) {
+                    break;
+                }
                 let design = one_patch(base, h, width, theta);
                 match caches.simulate(&design, model) {
                     Ok(simulation) => {

@@ -15,6 +15,7 @@ fn table() -> ReachTable {
         &VariableBounds::default(),
         &model(),
         &Caches::default(),
+        &AtomicBool::new(false),
     )
     .unwrap()
 }

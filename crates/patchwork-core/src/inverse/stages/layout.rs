@@ -58,6 +58,7 @@ impl RunStage for Layout {
             chosen: true,
         }];
         for candidate in candidates(run) {
+            ctx.check_cancelled()?;
             let planar = candidate.planar;
             let mut trial = LayoutTrial {
                 layout: candidate.layout.clone(),

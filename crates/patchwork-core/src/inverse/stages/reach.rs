@@ -22,8 +22,10 @@ impl RunStage for Reach {
             bounds,
             &setup.verify_model,
             ctx.caches,
+            ctx.cancel,
         )
         .map_err(DesignRunError::Reach)?;
+        ctx.check_cancelled()?;
         let lengths = WindowLengths {
             bend_mm: bounds.h_min_mm,
             twist_mm: bounds.h_max_mm,
