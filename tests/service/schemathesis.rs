@@ -43,6 +43,8 @@ fn the_served_description_holds_under_schemathesis() {
         .env("PYTHONPATH", root.join("tests/schemathesis"))
         .env("SCHEMATHESIS_HOOKS", "hooks")
         .env("NO_COLOR", "1")
+        // Schemathesis keeps a cache in its working folder: not the clone.
+        .current_dir(dir.path())
         .output()
         .expect("python3 runs (schemathesis: `.ci/run` installs it)");
     let text = String::from_utf8_lossy(&output.stdout);
