@@ -2,8 +2,11 @@
 //! requests at a paced 500 per second — achieved rate and latency percentiles —
 //! and (2) 100 concurrent SSE clients, each of which must receive every event.
 //!
-//! `cargo bench --bench service_load` (starts `patchwork serve` on port 0 with a
-//! fresh database; prints a table for BENCHMARKS.md).
+//! `cargo bench --bench service_load [-- --out FILE]` (starts `patchwork serve`
+//! on port 0 with a fresh database; prints the report's section, and writes it
+//! to FILE: `patchwork bench --suite report` includes docs/bench/service.md).
+
+use std::fmt::Write;
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -53,8 +56,27 @@ async fn main() {
     tokio::time::sleep(Duration::from_secs(2)).await;
     let status_url = format!("{base}/v1/jobs/{}", busy[0]);
 
-    println!("| window | requests | achieved req/s | errors | p50 ms | p99 ms | max ms |");
-    println!("|---|---|---|---|---|---|---|");
+    let out = std::env::args()
+        .skip_while(|a| a != "--out")
+        .nth(1)
+        .map(std::path::PathBuf::from);
+    let mut report = String::new();
+    let _ = write!(
+        report,
+        "Goal: {RATE} status requests per second with p99 under 20 ms while two \
+         design jobs compute; {SSE_CLIENTS} SSE clients each get every event.\n\n\
+         ```sh\ncargo bench --bench service_load\n```\n\n\
+         `patchwork serve --workers 2` (a fresh SQLite file) runs two long design \
+         jobs that keep both workers computing, while the bench, on the same \
+         machine, sends `GET /v1/jobs/{{id}}` at a paced {RATE} per second (on \
+         schedule, whether or not earlier requests have answered) in {WINDOWS} \
+         windows of {} s. Then {SSE_CLIENTS} SSE clients follow a fresh job while \
+         one long job computes; each client's event ids are compared with the \
+         whole stored stream read after the job ended.\n\n\
+         | window | requests | achieved req/s | errors | p50 ms | p99 ms | max ms |\n\
+         |---|---|---|---|---|---|---|\n",
+        WINDOW.as_secs()
+    );
     let mut p99s = Vec::new();
     for window in 1..=WINDOWS {
         let (latencies, errors, elapsed) = paced_status_load(&client, &status_url).await;
@@ -62,7 +84,8 @@ async fn main() {
         sorted.sort_by(f64::total_cmp);
         let pct = |q: f64| sorted[((sorted.len() - 1) as f64 * q).round() as usize];
         p99s.push(pct(0.99));
-        println!(
+        let _ = writeln!(
+            report,
             "| {window} | {} | {:.0} | {errors} | {:.2} | {:.2} | {:.2} |",
             latencies.len(),
             latencies.len() as f64 / elapsed,
@@ -72,8 +95,9 @@ async fn main() {
         );
     }
     p99s.sort_by(f64::total_cmp);
-    println!(
-        "\nmedian p99 over {WINDOWS} windows: {:.2} ms (goal < 20 ms)\n",
+    let _ = writeln!(
+        report,
+        "\nMedian p99 over the {WINDOWS} windows: **{:.2} ms** (goal < 20 ms).\n",
         p99s[WINDOWS / 2]
     );
 
@@ -100,8 +124,9 @@ async fn main() {
     // The reference: the whole stored stream, read after the job ended.
     let reference = event_ids(&client, &format!("{base}/v1/jobs/{id}/events")).await;
     let complete = received.iter().filter(|ids| **ids == reference).count();
-    println!(
-        "SSE: {complete}/{SSE_CLIENTS} clients received all {} events (ids 1..={}) of a {elapsed:.1} s job",
+    let _ = writeln!(
+        report,
+        "SSE: **{complete}/{SSE_CLIENTS}** clients received all {} events (ids 1..={}) of a {elapsed:.1} s job.",
         reference.len(),
         reference.last().copied().unwrap_or(0)
     );
@@ -111,6 +136,10 @@ async fn main() {
         .await;
     let _ = child.kill();
     let _ = child.wait();
+    print!("{report}");
+    if let Some(path) = out {
+        std::fs::write(&path, &report).expect("the --out file can be written");
+    }
 }
 
 /// Submits a job; returns its id.

@@ -24,7 +24,9 @@ use patchwork_core::inverse::input::prepare;
 use patchwork_core::inverse::objective::SHAPE_SAMPLES;
 use patchwork_core::inverse::{DesignOutcome, Plan, Smoothing, UserSettings, design};
 
+use super::bench_report;
 use super::bench_suite::{Setting, Suite, Target, suite};
+use super::bench_text::median;
 use super::output::emit;
 
 #[derive(Args)]
@@ -35,27 +37,32 @@ pub struct BenchArgs {
     quick: bool,
     /// Which suite: quick, reference (the presets and their variants on the
     /// reference curves), curves (curves unlike the references, draft and
-    /// standard) or round-trips (simulated random designs, the layout
-    /// unknown).
+    /// standard), round-trips (simulated random designs, the layout
+    /// unknown), or report (BENCHMARKS.md: forward solves, curves under
+    /// draft and standard, round trips under draft; about 30 minutes on 2
+    /// cores).
     #[arg(long, value_enum, default_value = "reference")]
     suite: Suite,
-    /// Folder for bench.md and bench.svg.
+    /// Folder for bench.md and bench.svg (the report: its tables and plot).
     #[arg(long, default_value = "bench-out")]
-    out: PathBuf,
+    pub out: PathBuf,
+    /// The report's file (`--suite report` only).
+    #[arg(long, default_value = "BENCHMARKS.md")]
+    pub report: PathBuf,
     /// Runs per case (seeds 1..=N); the table shows medians.
     #[arg(long, default_value_t = 3)]
-    runs: usize,
+    pub runs: usize,
     /// Only the curves whose name contains one of these (comma-separated,
     /// case-insensitive), e.g. `hilbert`.
     #[arg(long, value_delimiter = ',')]
-    curves: Vec<String>,
+    pub curves: Vec<String>,
     /// Only these settings (comma-separated names as in the table, e.g.
     /// `draft,fine`).
     #[arg(long, value_delimiter = ',')]
     settings: Vec<String>,
     /// Threads evaluating a generation.
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
-    threads: usize,
+    pub threads: usize,
 }
 
 /// The common model every run's design is re-simulated on: the finest
@@ -66,22 +73,14 @@ const REFERENCE_MESH: MeshSpec = MeshSpec {
     straight_mm: None,
 };
 
-struct Row {
-    curve: String,
-    setting: &'static str,
+pub struct Row {
+    pub curve: String,
+    pub setting: &'static str,
     /// Medians over the runs (the most beyond limits).
-    figures: Sample,
+    pub figures: Sample,
     /// The reach stage's verdict: "yes", or the stretches out of reach.
-    reach: String,
-    failures: usize,
-}
-
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    match values.len() {
-        0 => f64::NAN,
-        n => values[n / 2],
-    }
+    pub reach: String,
+    pub failures: usize,
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
@@ -90,6 +89,10 @@ pub fn run(args: BenchArgs) -> Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let chosen = if args.quick { Suite::Quick } else { args.suite };
+    let command = command_line(&args, chosen);
+    if chosen == Suite::Report {
+        return bench_report::run(&args, &command);
+    }
     let (mut curves, mut settings) = suite(chosen)?;
     let wanted = |filters: &[String], name: &str| {
         filters.is_empty()
@@ -121,46 +124,61 @@ pub fn run(args: BenchArgs) -> Result<()> {
             rows.push(row);
         }
     }
-    let suite_flag = match chosen {
-        Suite::Quick => " --quick",
-        Suite::Reference => "",
-        Suite::Curves => " --suite curves",
-        Suite::RoundTrips => " --suite round-trips",
-    };
-    let mut command = format!(
-        "patchwork bench{suite_flag} --runs {} --threads {}",
-        args.runs, args.threads
-    );
-    for (flag, values) in [("curves", &args.curves), ("settings", &args.settings)] {
-        if !values.is_empty() {
-            command.push_str(&format!(" --{flag} {}", values.join(",")));
-        }
-    }
     let table = table(&rows, &command);
     std::fs::write(args.out.join("bench.md"), &table)?;
     std::fs::write(args.out.join("bench.svg"), plot(&rows))?;
     emit(&table)
 }
 
+/// The command that reproduces this run.
+fn command_line(args: &BenchArgs, chosen: Suite) -> String {
+    let suite = match chosen {
+        Suite::Quick => " --quick",
+        Suite::Reference => "",
+        Suite::Curves => " --suite curves",
+        Suite::RoundTrips => " --suite round-trips",
+        Suite::Report => " --suite report",
+    };
+    let mut command = format!(
+        "patchwork bench{suite} --runs {} --threads {} --out {}",
+        args.runs,
+        args.threads,
+        args.out.display()
+    );
+    if chosen == Suite::Report {
+        command.push_str(&format!(" --report {}", args.report.display()));
+    }
+    for (flag, values) in [("curves", &args.curves), ("settings", &args.settings)] {
+        if !values.is_empty() {
+            let list = values.join(",");
+            match list.contains(' ') {
+                true => command.push_str(&format!(" --{flag} \"{list}\"")),
+                false => command.push_str(&format!(" --{flag} {list}")),
+            }
+        }
+    }
+    command
+}
+
 /// One run's figures (or their medians over the runs).
-struct Sample {
-    wall_s: f64,
-    evaluations: f64,
-    shape_error_percent: f64,
+pub struct Sample {
+    pub wall_s: f64,
+    pub evaluations: f64,
+    pub shape_error_percent: f64,
     /// Shape error of the design on `REFERENCE_MESH`.
-    reference_error_percent: f64,
+    pub reference_error_percent: f64,
     /// The same against the clean curve a drawn target was drawn from (NaN
     /// for the others).
-    clean_error_percent: f64,
-    dtw_curvature: f64,
-    dtw_torsion: f64,
-    patches: f64,
-    beyond_limits: f64,
+    pub clean_error_percent: f64,
+    pub dtw_curvature: f64,
+    pub dtw_torsion: f64,
+    pub patches: f64,
+    pub beyond_limits: f64,
 }
 
 /// `setting` on `target`, once per seed: the medians (the most beyond
 /// limits), the reach verdict and the failures.
-fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Result<Row> {
+pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Result<Row> {
     let mut samples = Vec::new();
     let mut failures = 0;
     let mut reach = String::from("–");
@@ -265,7 +283,7 @@ fn verdict(o: &DesignOutcome) -> String {
     }
 }
 
-fn table(rows: &[Row], command: &str) -> String {
+pub fn table(rows: &[Row], command: &str) -> String {
     let mut out = format!(
         "`{command}` — medians over the runs\n\n\
          Shape error on the run's own verification model, and of its design \
@@ -300,7 +318,7 @@ fn table(rows: &[Row], command: &str) -> String {
 /// Shape error against wall time (log scale), a colour per curve, each
 /// curve's Pareto front (no other setting both faster and more accurate)
 /// joined by a line.
-fn plot(rows: &[Row]) -> String {
+pub fn plot(rows: &[Row]) -> String {
     let ok: Vec<&Row> = rows
         .iter()
         .filter(|r| r.figures.wall_s.is_finite() && r.figures.reference_error_percent.is_finite())
@@ -344,13 +362,14 @@ fn plot(rows: &[Row]) -> String {
         });
     }
     chart::svg(&[Panel {
-        title: "Shape error against wall time (lines: each curve's Pareto front)".into(),
+        title: "Shape error against wall time, a dot per setting (line: each curve's Pareto front)"
+            .into(),
         x: Axis::log(
             "wall time (s, log scale)",
             ok.iter().map(|r| r.figures.wall_s),
         ),
         y: Axis::linear(
-            "shape error, reference model (% of length)",
+            "shape error (% of length)",
             ok.iter()
                 .map(|r| r.figures.reference_error_percent)
                 .chain([0.0]),

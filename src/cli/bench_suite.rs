@@ -25,6 +25,9 @@ pub enum Suite {
     /// designs of 4–12 patches (lone patches and graded trains), simulated,
     /// then designed from the centreline alone under draft and standard.
     RoundTrips,
+    /// The benchmark report: the forward solve per mesh, the curve suite
+    /// under draft and standard, the round trips under draft.
+    Report,
 }
 
 /// The suite's target curves, by name.
@@ -118,6 +121,7 @@ pub fn suite(suite: Suite) -> Result<(Targets, Vec<Setting>)> {
         Suite::Reference => reference(),
         Suite::Curves => any_curve(),
         Suite::RoundTrips => round_trips(),
+        Suite::Report => anyhow::bail!("the report runs several suites (bench_report)"),
     }
 }
 

@@ -1,7 +1,10 @@
 //! Command-line contract. Scripts depend on these names: change with care.
 
 mod bench_cmd;
+mod bench_forward;
+mod bench_report;
 mod bench_suite;
+mod bench_text;
 mod curve_cmd;
 pub(crate) mod design_cmd;
 mod design_summary;

@@ -1,0 +1,105 @@
+//! The forward solve per mesh, for the benchmark report: the bare
+//! reference tube against membrane theory (hoop and axial stretch in the
+//! middle of the tube) and the wall time of one cold solve, bare and with
+//! the six KSA patches of the Hilbert curve (the reference scene, 20 kPa,
+//! one thread; median of three).
+
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use patchwork_core::curve::ReferenceCurve;
+use patchwork_core::design::Design;
+use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
+use patchwork_core::ksa::{KsaParams, ksa};
+
+/// Solves per case; the table shows the median time.
+const REPEATS: usize = 3;
+
+pub struct ForwardRow {
+    pub mesh: &'static str,
+    pub nodes: usize,
+    /// FE against membrane theory, per cent.
+    pub hoop_error_percent: f64,
+    pub axial_error_percent: f64,
+    pub bare_ms: f64,
+    pub hilbert_ms: f64,
+}
+
+/// The meshes a user meets: the default of `simulate` and of every
+/// preset's verification, and the uniform meshes `--mesh-mm` gives.
+fn meshes() -> [(&'static str, MeshSpec); 4] {
+    [
+        (
+            "default: 0.5 mm at patches and ends, 4 mm between",
+            MeshSpec::default_simulation(),
+        ),
+        ("uniform 0.5 mm", MeshSpec::uniform(0.5)),
+        ("uniform 1 mm", MeshSpec::uniform(1.0)),
+        ("uniform 2 mm", MeshSpec::uniform(2.0)),
+    ]
+}
+
+pub fn measure() -> Result<Vec<ForwardRow>> {
+    let bare = Design::reference(vec![]);
+    let seed = ksa(&ReferenceCurve::Hilbert.curve(), &KsaParams::default())?;
+    let hilbert = Design::reference(seed.patches);
+    let mut rows = Vec::new();
+    for (name, mesh) in meshes() {
+        let options = SimulateOptions {
+            mesh,
+            ..SimulateOptions::default()
+        };
+        let (tube, bare_ms) =
+            timed(&bare, &options).with_context(|| format!("bare tube, {name}"))?;
+        let (_, hilbert_ms) =
+            timed(&hilbert, &options).with_context(|| format!("Hilbert scene, {name}"))?;
+        let theory = tube.tube_state;
+        rows.push(ForwardRow {
+            mesh: name,
+            nodes: tube.mesh.nodes.len(),
+            hoop_error_percent: 100.0 * (tube.hoop_stretch_mid / theory.hoop - 1.0),
+            axial_error_percent: 100.0 * (tube.axial_stretch_mid / theory.axial - 1.0),
+            bare_ms,
+            hilbert_ms,
+        });
+        eprintln!("forward solve, {name}: done");
+    }
+    Ok(rows)
+}
+
+/// The last of `REPEATS` cold solves and their median wall time, ms.
+fn timed(design: &Design, options: &SimulateOptions) -> Result<(Simulation, f64)> {
+    let mut times = Vec::new();
+    let mut last = None;
+    for _ in 0..REPEATS {
+        let started = Instant::now();
+        last = Some(simulate(design, options)?);
+        times.push(started.elapsed().as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    let simulation = last.context("no solve ran")?;
+    Ok((simulation, times[REPEATS / 2]))
+}
+
+/// The report's section: a table and how to read it.
+pub fn section(rows: &[ForwardRow]) -> String {
+    let mut out = String::from(
+        "| mesh | nodes (bare tube) | hoop stretch vs theory | axial stretch vs theory | bare tube | Hilbert scene, 6 patches |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        out.push_str(&format!(
+            "| {} | {} | {:+.2} % | {:+.2} % | {:.0} ms | {:.0} ms |\n",
+            r.mesh, r.nodes, r.hoop_error_percent, r.axial_error_percent, r.bare_ms, r.hilbert_ms
+        ));
+    }
+    out.push_str(&format!(
+        "\nThe reference balloon (292 mm, radius 3.18 mm, wall 0.183 mm) at 20 kPa: hoop and axial stretch in the middle of the bare tube \
+         against the closed-form membrane solution, and the wall time of one cold \
+         solve (median of {REPEATS}, one thread). The mesh's polygonal section sets \
+         the hoop error of a uniform mesh; the default mesh is fine where the shape \
+         is decided (under patches) and coarse between.\n"
+    ));
+    out
+}
