@@ -29,7 +29,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     let service = std::fs::read_to_string(args.out.join(SERVICE_SECTION)).ok();
     let report = [
         header(command),
-        headline(&curves, &trips, &forward, service.is_some(), &args.out),
+        headline(&curves, &trips, &forward, service.as_deref(), &args.out),
         curve_section(&curves, &args.out),
         trip_section(&trips),
         forward_section(&forward),
@@ -96,7 +96,7 @@ fn headline(
     curves: &[Row],
     trips: &[Row],
     forward: &[ForwardRow],
-    service: bool,
+    service: Option<&str>,
     out: &Path,
 ) -> String {
     let mut s = String::from("## How good, how fast\n\n| what | result |\n|---|---|\n");
@@ -125,14 +125,30 @@ fn headline(
             default.axial_error_percent
         ));
     }
-    if !service {
-        s.push_str("| HTTP service under load | not measured in this report (see below) |\n");
-    }
+    s.push_str(&match service {
+        Some(text) => format!(
+            "| HTTP service while two jobs compute | {} |\n",
+            service_headline(text)
+        ),
+        None => "| HTTP service under load | not measured in this report (see below) |\n".into(),
+    });
     s.push_str(&format!(
         "\n![Shape error against wall time, each curve's Pareto front joined]({}/bench.svg)\n",
         out.display()
     ));
     s
+}
+
+/// The service section's bold figures (median p99, SSE clients complete)
+/// on one line.
+fn service_headline(section: &str) -> String {
+    let bold: Vec<&str> = section.split("**").skip(1).step_by(2).collect();
+    match bold.as_slice() {
+        [p99, sse, ..] => format!(
+            "status requests at 500/s: median p99 {p99}; SSE clients that got every event: {sse}"
+        ),
+        _ => "see below".into(),
+    }
 }
 
 fn curve_section(rows: &[Row], out: &Path) -> String {
