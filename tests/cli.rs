@@ -510,6 +510,19 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
     assert!(csv.starts_with("patch,x_mm,y_mm,h_mm,w_mm,theta_deg\nP1,"));
     let svg = std::fs::read_to_string(files.join("template.svg")).unwrap();
     assert!(svg.contains(r#"viewBox="0 0"#) && svg.contains("<polygon"));
+    // The design.json written is a design `simulate` takes; on its default
+    // mesh (0.5 mm at patches, where this run verified on 0.5 mm
+    // throughout) it inflates to the predicted length within 1 %.
+    let design_json = files.join("design.json");
+    let simulated = patchwork(&["simulate", design_json.to_str().unwrap(), "--json"]);
+    assert!(simulated.status.success(), "{simulated:?}");
+    let simulated: Value = serde_json::from_slice(&simulated.stdout).unwrap();
+    let length = simulated["inflated_length_mm"].as_f64().unwrap();
+    let predicted = report["inflated_length_mm"].as_f64().unwrap();
+    assert!(
+        (length - predicted).abs() < 1e-2 * predicted,
+        "{length} against {predicted}"
+    );
 }
 
 #[test]

@@ -24,10 +24,10 @@ use patchwork_core::inverse::input::prepare;
 use patchwork_core::inverse::objective::SHAPE_SAMPLES;
 use patchwork_core::inverse::{DesignOutcome, Plan, Smoothing, UserSettings, design};
 
-use super::bench_report;
 use super::bench_suite::{Setting, Suite, Target, suite};
 use super::bench_text::median;
 use super::output::emit;
+use super::{bench_replot, bench_report};
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -46,6 +46,10 @@ pub struct BenchArgs {
     /// Folder for bench.md and bench.svg (the report: its tables and plot).
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
+    /// Redraw `--out`/bench.svg from this bench.md table instead of running
+    /// anything.
+    #[arg(long, value_name = "BENCH_MD")]
+    replot: Option<PathBuf>,
     /// The report's file (`--suite report` only).
     #[arg(long, default_value = "BENCHMARKS.md")]
     pub report: PathBuf,
@@ -75,7 +79,7 @@ const REFERENCE_MESH: MeshSpec = MeshSpec {
 
 pub struct Row {
     pub curve: String,
-    pub setting: &'static str,
+    pub setting: String,
     /// Medians over the runs (the most beyond limits).
     pub figures: Sample,
     /// The reach stage's verdict: "yes", or the stretches out of reach.
@@ -88,6 +92,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
     anyhow::ensure!(args.threads >= 1, "--threads must be at least 1");
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
+    if let Some(table) = &args.replot {
+        let text = std::fs::read_to_string(table)
+            .with_context(|| format!("cannot read {}", table.display()))?;
+        let rows = bench_replot::rows(&text)?;
+        return Ok(std::fs::write(args.out.join("bench.svg"), plot(&rows))?);
+    }
     let chosen = if args.quick { Suite::Quick } else { args.suite };
     let command = command_line(&args, chosen);
     if chosen == Suite::Report {
@@ -176,6 +186,23 @@ pub struct Sample {
     pub beyond_limits: f64,
 }
 
+impl Sample {
+    /// Every figure unknown (NaN).
+    pub fn unknown() -> Sample {
+        Sample {
+            wall_s: f64::NAN,
+            evaluations: f64::NAN,
+            shape_error_percent: f64::NAN,
+            reference_error_percent: f64::NAN,
+            clean_error_percent: f64::NAN,
+            dtw_curvature: f64::NAN,
+            dtw_torsion: f64::NAN,
+            patches: f64::NAN,
+            beyond_limits: f64::NAN,
+        }
+    }
+}
+
 /// `setting` on `target`, once per seed: the medians (the most beyond
 /// limits), the reach verdict and the failures.
 pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Result<Row> {
@@ -218,7 +245,7 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
     let column = |f: fn(&Sample) -> f64| median(samples.iter().map(f).collect());
     Ok(Row {
         curve: target.name.clone(),
-        setting: setting.name,
+        setting: setting.name.to_string(),
         figures: Sample {
             wall_s: column(|s| s.wall_s),
             evaluations: column(|s| s.evaluations),
@@ -331,7 +358,12 @@ pub fn plot(rows: &[Row]) -> String {
     }
     let mut series = Vec::new();
     for (i, name) in curves.iter().enumerate() {
+        // Past the palette, the colours repeat with squares for dots.
         let colour = COLOURS[i % COLOURS.len()];
+        let mark = match i < COLOURS.len() {
+            true => Mark::Dots,
+            false => Mark::Squares,
+        };
         let mut points: Vec<(f64, f64)> = ok
             .iter()
             .filter(|r| r.curve == *name)
@@ -351,7 +383,7 @@ pub fn plot(rows: &[Row]) -> String {
         series.push(Series {
             name: Some(name.to_string()),
             colour,
-            mark: Mark::Dots,
+            mark,
             points,
         });
         series.push(Series {
@@ -368,11 +400,9 @@ pub fn plot(rows: &[Row]) -> String {
             "wall time (s, log scale)",
             ok.iter().map(|r| r.figures.wall_s),
         ),
-        y: Axis::linear(
-            "shape error (% of length)",
-            ok.iter()
-                .map(|r| r.figures.reference_error_percent)
-                .chain([0.0]),
+        y: Axis::log(
+            "shape error (% of length, log scale)",
+            ok.iter().map(|r| r.figures.reference_error_percent),
         ),
         series,
     }])

@@ -20,6 +20,9 @@ use super::bench_text::{header, known_limits, median};
 const SERVICE_SECTION: &str = "service.md";
 
 pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
+    // The build and machine as the run starts (the work tree may change
+    // while it runs).
+    let head = header(command);
     let forward = bench_forward::measure()?;
     let curves = measured(Suite::Curves, &["draft", "standard"], args)?;
     let trips = measured(Suite::RoundTrips, &["draft"], args)?;
@@ -28,7 +31,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     std::fs::write(args.out.join("round-trips.md"), table(&trips, command))?;
     let service = std::fs::read_to_string(args.out.join(SERVICE_SECTION)).ok();
     let report = [
-        header(command),
+        head,
         headline(&curves, &trips, &forward, service.as_deref(), &args.out),
         curve_section(&curves, &args.out),
         trip_section(&trips),

@@ -119,7 +119,8 @@ pub fn known_limits(curves: &[Row]) -> String {
          lines); a little twist sometimes places bends better, which \
          `--tuning '{{\"planar_designs\": false}}'` allows.\n\
          - **Very long curves are slow**: a 2 m helix (a 1 m balloon) takes \
-         several minutes with one patch per bend.\n\
+         several minutes with one patch per bend (`cargo test --release -p \
+         patchwork-core --test stress -- --nocapture`).\n\
          - **Coarse meshes are for searching only**: the uniform 2 mm mesh is \
          several per cent off theory (table above); every preset verifies on \
          0.5 mm elements.\n"

@@ -2,6 +2,7 @@
 
 mod bench_cmd;
 mod bench_forward;
+mod bench_replot;
 mod bench_report;
 mod bench_suite;
 mod bench_text;

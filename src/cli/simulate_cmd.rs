@@ -18,7 +18,9 @@ use crate::reports::SimulateReport;
 #[command(allow_negative_numbers = true)]
 pub struct SimulateArgs {
     /// Design JSON: {"balloon", "patch", "pressure_kpa", "patches": [...]}
-    /// (all but `patches` default to the reference scene); `-` reads stdin.
+    /// (all but `patches` default to the reference scene), or the
+    /// design.json that `design` writes (its `design` is simulated); `-`
+    /// reads stdin.
     design: String,
     /// Print the result as JSON.
     #[arg(long)]
@@ -40,7 +42,7 @@ pub struct SimulateArgs {
     /// How elements that a patch outline cuts are modelled: `laminate` (a
     /// rank-one laminate along the outline, converges faster with the mesh)
     /// or `average` (area-weighted average of the covered and bare energies;
-    /// stiffer on coarse meshes). See BENCHMARKS.md, "Cut elements".
+    /// stiffer on coarse meshes). See docs/studies.md, "Cut elements".
     #[arg(long, default_value = "laminate")]
     cut_elements: CutElements,
     /// Also write the inflated surface (balloon.vtk, balloon.ply) and the
@@ -49,10 +51,20 @@ pub struct SimulateArgs {
     out: Option<PathBuf>,
 }
 
+/// A design, given as such or as the report `design` writes (an object
+/// with a `design` and no `patches` of its own).
+fn design_of(text: &str) -> Result<Design> {
+    let value: serde_json::Value = serde_json::from_str(text)?;
+    let inner = value
+        .get("design")
+        .filter(|_| value.get("patches").is_none());
+    Ok(serde_json::from_value(inner.unwrap_or(&value).clone())?)
+}
+
 pub fn run(args: SimulateArgs) -> Result<()> {
     let text = super::input::read_text_argument(&args.design)?;
-    let design: Design = serde_json::from_str(&text)
-        .with_context(|| format!("{}: invalid design JSON", args.design))?;
+    let design =
+        design_of(&text).with_context(|| format!("{}: invalid design JSON", args.design))?;
     let options = SimulateOptions {
         mesh: MeshSpec::from_options(args.mesh_mm, args.straight_mm),
         rings: args.rings,

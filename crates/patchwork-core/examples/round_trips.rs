@@ -3,7 +3,7 @@
 //! correction's, on which it verifies) → design
 //! from that centreline alone (balloon length from mechanics, draft preset,
 //! budget 200, two threads) → shape error on the same model. Prints the table
-//! in BENCHMARKS.md. About two minutes:
+//! in docs/studies.md. About two minutes:
 //! `cargo run --release -p patchwork-core --example round_trips`
 //!
 //! Settings to compare, as `key=value` arguments: `fidelity=draft|standard|fine`

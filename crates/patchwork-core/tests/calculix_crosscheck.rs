@@ -12,13 +12,13 @@
 //!   at 30° and its ends cut by the base and the tip (Patchwork clips a patch
 //!   that overhangs the ends), so again both codes see the same region. A
 //!   short patch at 30° would end in element staircases in ccx, a different
-//!   patch at any mesh a CI run can afford (BENCHMARKS.md, "CalculiX
+//!   patch at any mesh a CI run can afford (docs/studies.md, "CalculiX
 //!   cross-check").
 //!
 //! Compared: the rotation of the tip ring (best-fit rotation of its nodes),
 //! split into the bend angle and the twist about the axis, and the tip's axial
 //! displacement. Tolerance 5 % (issue 3). ccx runs 8-node shells, 16 elements
-//! around; at 32 around its answers move by at most 1 % (BENCHMARKS.md,
+//! around; at 32 around its answers move by at most 1 % (docs/studies.md,
 //! "CalculiX cross-check"), well within the tolerance.
 //!
 //! Without `ccx` on the PATH the tests fail and say how to install it; set
@@ -115,7 +115,7 @@ fn axial_case() -> Case {
 /// centre line passes 1.5 columns from the seam at y = 0. On a 40 mm tube the
 /// strip winds more than a full turn and the bend is a small remainder (0.45°
 /// against a 3.4° twist), which a few per cent of either code's discretisation
-/// error swamps (BENCHMARKS.md).
+/// error swamps (docs/studies.md).
 fn helical_case() -> Case {
     let h = ccx_element(CCX_AROUND);
     let theta: f64 = 30.0;
@@ -304,7 +304,7 @@ fn richardson(what: &str, f: [f64; 3]) -> f64 {
 /// An oblique patch's edges cut Patchwork's elements. As laminates along the
 /// outline (the default) they converge from above in twist (+4.7 % of the mesh
 /// limit at 0.5 mm, +1.8 % at 0.25, +0.7 % at 0.125; area-averaged cut
-/// elements: −11, −6, −3 %, BENCHMARKS.md "Cut elements"). The model is
+/// elements: −11, −6, −3 %, docs/studies.md "Cut elements"). The model is
 /// compared through its mesh limit, extrapolated from 0.5, 0.25 and 0.125 mm
 /// (8 s), and the 0.25 mm answer itself must be within the tolerance too
 /// (area-averaged cut elements miss it by 8 % in twist).

@@ -86,7 +86,7 @@ fn moving_the_patch_rotates_the_bending_plane() {
     // different kinematic estimates, leaving ~1e-7 differences). One it does
     // not meets different element edges: at 1 mm the measured differences are
     // 1.3° and 0.03 %. (At 2 mm they are 0.5° and 10 %: a uniform 2 mm mesh is
-    // too coarse for a 3 mm-wide patch; see BENCHMARKS.md.)
+    // too coarse for a 3 mm-wide patch; see docs/studies.md.)
     for (h, shift, tolerance_deg, tolerance_bend) in [
         (2.0, circumference / 5.0, 1e-4, 1e-6),
         (1.0, circumference * 50.0 / 360.0, 2.0, 0.01),

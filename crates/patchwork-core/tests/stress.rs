@@ -20,7 +20,7 @@ use patchwork_core::material::Material;
 /// trial steps for designs of up to 38 free variables.
 const STRESS_REFINE: usize = 40;
 /// Targets longer than this (mm) are designed without the refine: the 2 m
-/// helix's 1 mm solves take minutes each (BENCHMARKS.md).
+/// helix's 1 mm solves take minutes each (docs/studies.md).
 const NO_REFINE_BEYOND_MM: f64 = 1000.0;
 
 /// Newton's time cap per solve; a case may take a few solves (continuation).

@@ -14,6 +14,7 @@ pub enum Mark {
     Line,
     Dashed,
     Dots,
+    Squares,
 }
 
 /// Points of one kind; `name: None` keeps it out of the legend (a line
@@ -139,14 +140,9 @@ fn draw_series(s: &mut String, series: &Series, px: &dyn Fn(f64) -> f64, py: &dy
         .filter(|(x, y)| x.is_finite() && y.is_finite());
     let colour = series.colour;
     match series.mark {
-        Mark::Dots => {
+        Mark::Dots | Mark::Squares => {
             for (x, y) in finite {
-                let _ = write!(
-                    s,
-                    r#"<circle cx="{:.1}" cy="{:.1}" r="4" fill="{colour}"/>"#,
-                    px(*x),
-                    py(*y)
-                );
+                marker(s, series.mark, colour, px(*x), py(*y));
             }
         }
         Mark::Line | Mark::Dashed => {
@@ -174,11 +170,10 @@ fn draw_legend(s: &mut String, series: &[Series], x: f64, top: f64) {
         let y = top + 8.0 + LEGEND_ROW * row as f64;
         let colour = series.colour;
         let _ = match series.mark {
-            Mark::Dots => write!(
-                s,
-                r#"<circle cx="{:.1}" cy="{y:.1}" r="4" fill="{colour}"/>"#,
-                x + 10.0
-            ),
+            Mark::Dots | Mark::Squares => {
+                marker(s, series.mark, colour, x + 10.0, y);
+                Ok(())
+            }
             Mark::Line | Mark::Dashed => write!(
                 s,
                 r#"<line x1="{x:.1}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="{colour}" stroke-width="2"{}/>"#,
@@ -198,6 +193,22 @@ fn draw_legend(s: &mut String, series: &[Series], x: f64, top: f64) {
             escape(name)
         );
     }
+}
+
+/// A dot or a square centred on (x, y).
+fn marker(s: &mut String, mark: Mark, colour: &str, x: f64, y: f64) {
+    let _ = match mark {
+        Mark::Squares => write!(
+            s,
+            r#"<rect x="{:.1}" y="{:.1}" width="8" height="8" fill="{colour}"/>"#,
+            x - 4.0,
+            y - 4.0
+        ),
+        _ => write!(
+            s,
+            r#"<circle cx="{x:.1}" cy="{y:.1}" r="4" fill="{colour}"/>"#
+        ),
+    };
 }
 
 /// Text as SVG character data.

@@ -5,7 +5,7 @@
 //! energies at one strain (Voigt: `φ E_A(C) + (1−φ) E_B(C)`) makes the whole
 //! element as stiff as the patch in every direction, so an oblique patch
 //! becomes a staircase of stiff elements along the mesh lines, and its bend and
-//! twist converge only at first order (BENCHMARKS.md, "CalculiX cross-check").
+//! twist converge only at first order (docs/studies.md, "CalculiX cross-check").
 //!
 //! Here the phases are layers of a laminate whose interface has the unit normal
 //! n (the triangle's reference plane). Their in-plane deformation gradients

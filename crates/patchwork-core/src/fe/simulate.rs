@@ -95,7 +95,7 @@ pub struct Simulation {
 }
 
 /// The most mesh nodes one solve may use: a solve takes about 8 KB of
-/// memory per node (BENCHMARKS.md, "Forward solve"), so this is about
+/// memory per node (docs/studies.md, "Forward solve"), so this is about
 /// 3 GB — a 5 m balloon on a uniform 0.5 mm mesh (the 2 m helix of the
 /// stress suite has 0.16 million).
 pub const MAX_NODES: f64 = 4e5;

@@ -12,7 +12,7 @@
 //! request, the same curve at a higher polish budget — repeats the whole
 //! search exactly (same seed, same candidates) and finds every simulation
 //! here. Within one run CMA-ES practically never proposes the same candidate
-//! twice, so a single run gains nothing (measured in BENCHMARKS.md).
+//! twice, so a single run gains nothing (measured in docs/studies.md).
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};

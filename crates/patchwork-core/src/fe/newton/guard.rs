@@ -7,7 +7,7 @@
 //! 1–24 mm, where a 0.5 mm element's wall then wrinkles, and Newton needs a
 //! shift of 10²–10³ times the mean tangent entry for the next 5–12
 //! iterations, creeping like gradient descent until the shift has decayed
-//! (BENCHMARKS.md). The guard accepts the line search's point only if K there
+//! (docs/studies.md). The guard accepts the line search's point only if K there
 //! factorises with a shift up to a ceiling (ten times the shift the step was
 //! taken with, at least [`GUARD_SHIFT`] times the mean tangent entry);
 //! otherwise it halves the step, up to [`GUARD_HALVINGS`] times, keeping
