@@ -25,10 +25,11 @@ pub fn header(command: &str) -> String {
          | date | {date} |\n\
          | build | {} ({} profile) |\n\
          | machine | {} |\n\n\
-         **Shape error** is the largest distance between the target and the \
-         design's inflated centreline, after the best rigid alignment, as a \
-         percentage of the target's length; every design is re-simulated on the \
-         uniform 0.5 mm reference model to measure it. **Wall time** is one \
+         **Shape error** is the root-mean-square distance between the target \
+         and the design's inflated centreline, compared at equal fractions of \
+         their length after the best rigid alignment, as a percentage of the \
+         target's length; every design is re-simulated on the uniform 0.5 mm \
+         reference model to measure it. **Wall time** is one \
          `patchwork design` run on this machine with 2 threads, from the curve \
          to the verified design; times on a shared machine vary by up to ±30 % \
          from one run to the next, so compare them as ratios within this report.\n",
