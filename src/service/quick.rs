@@ -171,6 +171,7 @@ pub async fn simulate_route(
         ..SimulateOptions::default()
     };
     options.newton.time_limit = cap;
+    options.time_limit = Some(cap);
     let started = Instant::now();
     let work = blocking(move || simulate(&body.design, &options));
     // The solver honours the cap itself; this guards the response regardless.

@@ -31,6 +31,10 @@ pub struct SimulateOptions {
     pub min_continuation_step: f64,
     /// How elements cut by a patch outline are modelled.
     pub cut_elements: CutElements,
+    /// Wall time of the whole simulation (its starts and every continuation
+    /// step together), besides each solve's `newton.time_limit`; `None`:
+    /// only the per-solve limit. A caller answering a person sets it.
+    pub time_limit: Option<Duration>,
 }
 
 impl Default for SimulateOptions {
@@ -41,6 +45,7 @@ impl Default for SimulateOptions {
             newton: NewtonOptions::default(),
             min_continuation_step: 1.0 / 64.0,
             cut_elements: CutElements::default(),
+            time_limit: None,
         }
     }
 }
@@ -175,10 +180,16 @@ pub fn simulate_with(
             .then(|| kinematic_state(design, &model.mesh, tube_state, KINEMATIC_SCALE))
     })
     .flatten();
-    // The time limit holds for the whole simulation: each solve gets what
-    // is left of it.
+    // Each solve gets its own limit, or what is left of the whole
+    // simulation's when that is less.
     let left = || NewtonOptions {
-        time_limit: options.newton.time_limit.saturating_sub(started.elapsed()),
+        time_limit: options
+            .time_limit
+            .map_or(options.newton.time_limit, |total| {
+                total
+                    .saturating_sub(started.elapsed())
+                    .min(options.newton.time_limit)
+            }),
         ..options.newton
     };
     let solved = warm.into_iter().chain(kinematic).find_map(|mut x| {

@@ -10,8 +10,8 @@ pub struct NewtonOptions {
     pub max_iterations: usize,
     /// Converged when |∇Π| ≤ tolerance · |P ∂V/∂x| (the pressure load's size).
     pub tolerance: f64,
-    /// Wall time of a solve. A simulation gives its whole run (every solve
-    /// of its starts and continuation) this limit, each solve what is left.
+    /// Wall time of one solve (a simulation may also limit its whole run:
+    /// `SimulateOptions::time_limit`).
     pub time_limit: Duration,
     /// Halve a step whose end needs a much larger shift than its start
     /// ([`guard_definiteness`]). On by default; off only to measure what it
