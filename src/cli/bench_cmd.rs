@@ -25,7 +25,6 @@ use patchwork_core::inverse::objective::SHAPE_SAMPLES;
 use patchwork_core::inverse::{DesignOutcome, Plan, Smoothing, UserSettings, design};
 
 use super::bench_suite::{Setting, Suite, Target, suite};
-use super::bench_text::median;
 use super::output::emit;
 use super::{bench_replot, bench_report};
 
@@ -39,7 +38,7 @@ pub struct BenchArgs {
     /// reference curves), curves (curves unlike the references, draft and
     /// standard), round-trips (simulated random designs, the layout
     /// unknown), or report (BENCHMARKS.md: forward solves, curves under
-    /// draft and standard, round trips under draft; about 30 minutes on 2
+    /// draft and standard, round trips under draft; about 45 minutes on 2
     /// cores).
     #[arg(long, value_enum, default_value = "reference")]
     suite: Suite,
@@ -103,23 +102,41 @@ pub fn run(args: BenchArgs) -> Result<()> {
     if chosen == Suite::Report {
         return bench_report::run(&args, &command);
     }
-    let (mut curves, mut settings) = suite(chosen)?;
-    let wanted = |filters: &[String], name: &str| {
-        filters.is_empty()
-            || filters
+    let rows = measure_suite(
+        chosen,
+        |s| args.settings.is_empty() || args.settings.iter().any(|f| f == s.name),
+        &args,
+    )?;
+    let table = table(&rows, &command);
+    std::fs::write(args.out.join("bench.md"), &table)?;
+    std::fs::write(args.out.join("bench.svg"), plot(&rows))?;
+    emit(&table)
+}
+
+/// The curves of `which` that `--curves` names (all when it names none),
+/// each under the settings `keep` keeps, measured in order.
+pub fn measure_suite(
+    which: Suite,
+    keep: impl Fn(&Setting) -> bool,
+    args: &BenchArgs,
+) -> Result<Vec<Row>> {
+    let (mut curves, mut settings) = suite(which)?;
+    curves.retain(|t| {
+        args.curves.is_empty()
+            || args
+                .curves
                 .iter()
-                .any(|f| name.to_lowercase().contains(&f.to_lowercase()))
-    };
-    curves.retain(|t| wanted(&args.curves, &t.name));
-    settings.retain(|s| args.settings.is_empty() || args.settings.iter().any(|f| f == s.name));
+                .any(|f| t.name.to_lowercase().contains(&f.to_lowercase()))
+    });
+    settings.retain(|s| keep(s));
     anyhow::ensure!(
         !curves.is_empty() && !settings.is_empty(),
-        "--curves/--settings select nothing from the suite"
+        "--curves/--settings select nothing from the {which:?} suite"
     );
     let mut rows = Vec::new();
     for target in &curves {
         for setting in &settings {
-            let row = measure_row(target, setting, &args)?;
+            let row = measure_row(target, setting, args)?;
             eprintln!(
                 "{:<40} {:<24} {:>8.2} s {:>6.0} evals {:>6.2} % (reference model {:.2} %), {} patches, {} beyond limits",
                 row.curve,
@@ -134,10 +151,15 @@ pub fn run(args: BenchArgs) -> Result<()> {
             rows.push(row);
         }
     }
-    let table = table(&rows, &command);
-    std::fs::write(args.out.join("bench.md"), &table)?;
-    std::fs::write(args.out.join("bench.svg"), plot(&rows))?;
-    emit(&table)
+    Ok(rows)
+}
+
+pub fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    match values.len() {
+        0 => f64::NAN,
+        n => values[n / 2],
+    }
 }
 
 /// The command that reproduces this run.

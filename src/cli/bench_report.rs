@@ -10,10 +10,10 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
-use super::bench_cmd::{BenchArgs, Row, measure_row, plot, table};
+use super::bench_cmd::{BenchArgs, Row, measure_suite, median, plot, table};
 use super::bench_forward::{self, ForwardRow};
-use super::bench_suite::{Suite, suite};
-use super::bench_text::{header, known_limits, median};
+use super::bench_suite::Suite;
+use super::bench_text::{header, known_limits};
 
 /// The service bench's section, written by
 /// `cargo bench --bench service_load -- --out docs/bench/service.md`.
@@ -46,30 +46,9 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     Ok(())
 }
 
-/// The rows of `settings` over every curve of `which` (those `--curves`
-/// names, when given).
+/// The rows of the named presets over every curve of `which`.
 fn measured(which: Suite, settings: &[&str], args: &BenchArgs) -> Result<Vec<Row>> {
-    let (mut targets, all) = suite(which)?;
-    targets.retain(|t| {
-        args.curves.is_empty()
-            || args
-                .curves
-                .iter()
-                .any(|f| t.name.to_lowercase().contains(&f.to_lowercase()))
-    });
-    let chosen: Vec<_> = all.iter().filter(|s| settings.contains(&s.name)).collect();
-    let mut rows = Vec::new();
-    for target in &targets {
-        for setting in &chosen {
-            let row = measure_row(target, setting, args)?;
-            eprintln!(
-                "{} / {}: {:.2} % in {:.1} s",
-                row.curve, row.setting, row.figures.reference_error_percent, row.figures.wall_s
-            );
-            rows.push(row);
-        }
-    }
-    Ok(rows)
+    measure_suite(which, |s| settings.contains(&s.name), args)
 }
 
 /// Median and worst (within reach) shape error and the longest run of one

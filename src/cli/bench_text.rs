@@ -6,14 +6,6 @@ use std::process::Command;
 
 use super::bench_cmd::Row;
 
-pub fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    match values.len() {
-        0 => f64::NAN,
-        n => values[n / 2],
-    }
-}
-
 /// The title, what was run where, and how to read the figures.
 pub fn header(command: &str) -> String {
     let date = time::OffsetDateTime::now_utc().date();

@@ -164,17 +164,18 @@ pub async fn simulate_route(
         ));
     }
     let cap = state.config.simulate_time_limit;
-    let mut options = SimulateOptions {
+    let options = SimulateOptions {
         mesh,
         rings: body.rings,
         cut_elements: body.cut_elements,
+        time_limit: Some(cap),
         ..SimulateOptions::default()
     };
-    options.newton.time_limit = cap;
-    options.time_limit = Some(cap);
     let started = Instant::now();
     let work = blocking(move || simulate(&body.design, &options));
-    // The solver honours the cap itself; this guards the response regardless.
+    // The solver honours the cap itself, checked between Newton iterations
+    // (building a large mesh and one iteration on it are not); this guards
+    // the response regardless.
     let outcome = tokio::time::timeout(cap * 3 + Duration::from_secs(5), work).await;
     state.counters.simulate.record(started.elapsed());
     match outcome {

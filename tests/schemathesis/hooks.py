@@ -76,11 +76,9 @@ def curve_ok(curve):
     """At least 4 distinct successive points; a Hilbert corner fits its edge."""
     curve = _dict(curve)
     try:
-        if isinstance(curve.get("points"), list):
-            points = [tuple(p) for p in curve["points"] if isinstance(p, list)]
+        points = _curve_points(curve)
+        if points is not None:
             return _distinct_successive(points) >= 4
-        if isinstance(curve.get("csv"), str):
-            return _distinct_successive(_csv_points(curve["csv"])) >= 4
     except (TypeError, ValueError, IndexError):
         return True  # not a plain curve: a negative case, left to the server
     if curve.get("preset") == "hilbert":

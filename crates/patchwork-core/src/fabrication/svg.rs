@@ -24,109 +24,110 @@ const TEXT_MM: f64 = 2.2;
 pub fn template_svg(design: &Design) -> String {
     let (c, l) = (design.balloon.circumference(), design.balloon.length_mm);
     let (w, h) = (LEFT_MM + c + RIGHT_MM, TOP_MM + l + BOTTOM_MM);
-    // Sheet coordinates (X right, Y up from the base) to SVG's (y down).
-    let at = |x: f64, y: f64| (LEFT_MM + x, TOP_MM + l - y);
-    let mut s = format!(
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.2}mm" height="{h:.2}mm" viewBox="0 0 {w:.2} {h:.2}" font-family="sans-serif" font-size="{TEXT_MM}">"#
-    );
-    s.push_str(r#"<rect width="100%" height="100%" fill="white"/>"#);
-    s.push_str(r#"<g fill="none" stroke="black" stroke-width="0.2">"#);
-    let line = |s: &mut String, a: (f64, f64), b: (f64, f64)| {
-        let ((x1, y1), (x2, y2)) = (at(a.0, a.1), at(b.0, b.1));
-        let _ = write!(
-            s,
-            r#"<line x1="{x1:.3}" y1="{y1:.3}" x2="{x2:.3}" y2="{y2:.3}"/>"#
-        );
+    let mut sheet = Sheet {
+        svg: format!(
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.2}mm" height="{h:.2}mm" viewBox="0 0 {w:.2} {h:.2}" font-family="sans-serif" font-size="{TEXT_MM}"><rect width="100%" height="100%" fill="white"/>"#
+        ),
+        length_mm: l,
     };
-    let (x0, y0) = at(0.0, l);
+    let (x0, y0) = sheet.at((0.0, l));
     let _ = write!(
-        s,
-        r#"<rect x="{x0}" y="{y0}" width="{c:.3}" height="{l:.3}"/>"#
+        sheet.svg,
+        r#"<rect x="{x0}" y="{y0}" width="{c:.3}" height="{l:.3}" fill="none" stroke="black" stroke-width="0.2"/>"#
     );
     for k in 0..=(l / 10.0).floor() as usize {
         let y = 10.0 * k as f64;
         let tick = if k % 5 == 0 { 4.0 } else { 2.0 };
-        line(&mut s, (-tick, y), (0.0, y));
+        sheet.line((-tick, y), (0.0, y));
     }
-    // Dimension lines: the circumference above the sheet, the length on
-    // its right, each with end marks.
-    let above = l + 6.0;
-    line(&mut s, (0.0, above), (c, above));
-    for x in [0.0, c] {
-        line(&mut s, (x, above - 2.0), (x, above + 2.0));
-    }
-    let right = c + 6.0;
-    line(&mut s, (right, 0.0), (right, l));
-    for y in [0.0, l] {
-        line(&mut s, (right - 2.0, y), (right + 2.0, y));
-    }
-    // The scale bar, below the base label.
-    line(&mut s, (0.0, -14.0), (10.0, -14.0));
-    for x in [0.0, 10.0] {
-        line(&mut s, (x, -15.0), (x, -13.0));
-    }
-    s.push_str("</g>");
-    for p in &design.patches {
-        for piece in sheet_pieces(p, c, l) {
-            let points: Vec<String> = piece
-                .iter()
-                .map(|q| {
-                    let (x, y) = at(q[0], q[1]);
-                    format!("{x:.3},{y:.3}")
-                })
-                .collect();
-            let _ = write!(
-                s,
-                r#"<polygon points="{}" fill="none" stroke="red" stroke-width="0.2"/>"#,
-                points.join(" ")
-            );
-        }
-    }
-    let text = |s: &mut String, (x, y): (f64, f64), anchor: &str, words: &str| {
-        let (x, y) = at(x, y);
-        let _ = write!(
-            s,
-            r#"<text x="{x:.2}" y="{y:.2}" text-anchor="{anchor}">{words}</text>"#
-        );
-    };
     for k in (0..=(l / 50.0).floor() as usize).map(|k| 50.0 * k as f64) {
-        text(&mut s, (-5.0, k - 0.7), "end", &format!("{k:.0}"));
+        sheet.text((-5.0, k - 0.7), "end", &format!("{k:.0}"));
     }
-    text(
-        &mut s,
+    let (above, right) = (l + 6.0, c + 6.0);
+    sheet.dimension((0.0, above), (c, above));
+    sheet.text(
         (c / 2.0, above + 1.0),
         "middle",
         &format!("{c:.2} mm round"),
     );
-    let (lx, ly) = at(right + 2.5, l / 2.0);
+    sheet.dimension((right, 0.0), (right, l));
+    let (lx, ly) = sheet.at((right + 2.5, l / 2.0));
     let _ = write!(
-        s,
+        sheet.svg,
         r#"<text transform="translate({lx:.2} {ly:.2}) rotate(90)" text-anchor="middle">{l:.1} mm to cut</text>"#
     );
-    text(
-        &mut s,
-        (-LEFT_MM + 2.0, l + 10.5),
-        "start",
-        "Y: mm from the base",
-    );
-    text(
-        &mut s,
+    sheet.dimension((0.0, -14.0), (10.0, -14.0));
+    sheet.text((12.0, -14.8), "start", "10 mm at 100 %");
+    sheet.text((-LEFT_MM + 2.0, l + 10.5), "start", "Y: mm from the base");
+    sheet.text(
         (-LEFT_MM + 2.0, l + 13.5),
         "start",
         "X: round from the seam",
     );
-    text(&mut s, (0.0, -5.0), "start", "BASE (clamped end)");
-    text(&mut s, (12.0, -14.8), "start", "10 mm at 100 %");
+    sheet.text((0.0, -5.0), "start", "BASE (clamped end)");
     for (i, p) in design.patches.iter().enumerate() {
-        text(
-            &mut s,
-            (p.x_mm.rem_euclid(c) + 0.5, p.y_mm),
-            "start",
-            &format!("P{}", i + 1),
+        for piece in sheet_pieces(p, c, l) {
+            sheet.polygon(&piece, "red");
+        }
+        let label = (p.x_mm.rem_euclid(c) + 0.5, p.y_mm);
+        sheet.text(label, "start", &format!("P{}", i + 1));
+    }
+    sheet.svg.push_str("</svg>\n");
+    sheet.svg
+}
+
+/// SVG elements drawn in sheet coordinates (mm; X right, Y up from the
+/// base), which SVG's y-down frame flips.
+struct Sheet {
+    svg: String,
+    length_mm: f64,
+}
+
+impl Sheet {
+    fn at(&self, (x, y): (f64, f64)) -> (f64, f64) {
+        (LEFT_MM + x, TOP_MM + self.length_mm - y)
+    }
+
+    fn line(&mut self, a: (f64, f64), b: (f64, f64)) {
+        let ((x1, y1), (x2, y2)) = (self.at(a), self.at(b));
+        let _ = write!(
+            self.svg,
+            r#"<line x1="{x1:.3}" y1="{y1:.3}" x2="{x2:.3}" y2="{y2:.3}" stroke="black" stroke-width="0.2"/>"#
         );
     }
-    s.push_str("</svg>\n");
-    s
+
+    /// A line from `a` to `b` with a 4 mm mark across each end.
+    fn dimension(&mut self, a: (f64, f64), b: (f64, f64)) {
+        self.line(a, b);
+        let length = (b.0 - a.0).hypot(b.1 - a.1);
+        let (nx, ny) = (-(b.1 - a.1) / length, (b.0 - a.0) / length);
+        for (x, y) in [a, b] {
+            self.line((x - 2.0 * nx, y - 2.0 * ny), (x + 2.0 * nx, y + 2.0 * ny));
+        }
+    }
+
+    fn polygon(&mut self, corners: &[[f64; 2]], colour: &str) {
+        let points: Vec<String> = corners
+            .iter()
+            .map(|q| {
+                let (x, y) = self.at((q[0], q[1]));
+                format!("{x:.3},{y:.3}")
+            })
+            .collect();
+        let _ = write!(
+            self.svg,
+            r#"<polygon points="{}" fill="none" stroke="{colour}" stroke-width="0.2"/>"#,
+            points.join(" ")
+        );
+    }
+
+    fn text(&mut self, at: (f64, f64), anchor: &str, words: &str) {
+        let (x, y) = self.at(at);
+        let _ = write!(
+            self.svg,
+            r#"<text x="{x:.2}" y="{y:.2}" text-anchor="{anchor}">{words}</text>"#
+        );
+    }
 }
 
 /// The least span of a profile plot's y axis, 1/mm.
