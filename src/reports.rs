@@ -1,11 +1,39 @@
-//! The JSON answers of `ksa` and `simulate`, shared by the CLI (`--json`) and
-//! the API (`POST /v1/ksa`, `POST /v1/simulate`): one schema everywhere.
+//! The JSON answers of `curve`, `ksa` and `simulate`, shared by the CLI
+//! (`--json`) and the API (`POST /v1/curve`, `POST /v1/ksa`,
+//! `POST /v1/simulate`): one schema everywhere.
 
-use patchwork_core::curve::Curve;
+use patchwork_core::curve::{AnalysisOptions, Curve, analyse};
 use patchwork_core::design::Patch;
 use patchwork_core::fe::Simulation;
 use patchwork_core::ksa::KsaResult;
 use serde::Serialize;
+
+/// A curve's length, curvature and torsion along it.
+#[derive(Debug, Serialize)]
+pub struct CurveReport {
+    pub length_mm: f64,
+    pub points: usize,
+    pub s_mm: Vec<f64>,
+    pub curvature_per_mm: Vec<f64>,
+    /// 0 where undefined (see `torsion_defined`).
+    pub torsion_per_mm: Vec<f64>,
+    /// False where κ is too small for torsion to mean anything.
+    pub torsion_defined: Vec<bool>,
+}
+
+impl CurveReport {
+    pub fn new(curve: &Curve) -> CurveReport {
+        let analysis = analyse(curve, &AnalysisOptions::default());
+        CurveReport {
+            length_mm: curve.length(),
+            points: curve.len(),
+            s_mm: analysis.s,
+            curvature_per_mm: analysis.curvature,
+            torsion_per_mm: analysis.torsion,
+            torsion_defined: analysis.torsion_defined,
+        }
+    }
+}
 
 #[derive(Debug, Serialize)]
 pub struct KsaReport {
@@ -47,6 +75,51 @@ pub struct SimulateReport {
     pub stable: bool,
     pub relative_residual: f64,
     pub volume_mm3: f64,
+    /// The inflated membrane, when asked for (`surface: true`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub surface: Option<Surface>,
+}
+
+/// The inflated membrane as rings of nodes: `positions_mm` holds the tube's
+/// rings from the clamped base, then the end cap's rings, `around` nodes
+/// each, then the cap's pole. Neighbouring rings make the surface's
+/// quadrilaterals; the last ring and the pole its closing fan.
+#[derive(Debug, Serialize)]
+pub struct Surface {
+    pub around: usize,
+    /// Node positions (mm), rounded to 0.001 mm.
+    pub positions_mm: Vec<[f64; 3]>,
+    /// Fraction of each node's neighbourhood covered by patches (0–1, mean
+    /// of the elements around it; rounded to 0.01).
+    pub patch_share: Vec<f64>,
+}
+
+impl Surface {
+    pub fn new(sim: &Simulation) -> Surface {
+        let round = |v: f64, step: f64| (v / step).round() * step;
+        let nodes = sim.positions.len();
+        let mut share = vec![0.0; nodes];
+        let mut count = vec![0usize; nodes];
+        for (triangle, s) in sim.mesh.triangles.iter().zip(&sim.patch_share) {
+            for &node in triangle {
+                share[node] += s;
+                count[node] += 1;
+            }
+        }
+        Surface {
+            around: sim.mesh.around,
+            positions_mm: sim
+                .positions
+                .iter()
+                .map(|p| [round(p.x, 1e-3), round(p.y, 1e-3), round(p.z, 1e-3)])
+                .collect(),
+            patch_share: share
+                .iter()
+                .zip(&count)
+                .map(|(s, &n)| round(s / n.max(1) as f64, 0.01))
+                .collect(),
+        }
+    }
 }
 
 impl SimulateReport {
@@ -69,6 +142,7 @@ impl SimulateReport {
             stable: sim.stats.stable,
             relative_residual: sim.stats.residual,
             volume_mm3: sim.volume_mm3,
+            surface: None,
         }
     }
 }

@@ -3,10 +3,10 @@
 use anyhow::Result;
 use clap::Args;
 use patchwork_core::curve::{AnalysisOptions, analyse};
-use serde::Serialize;
 
 use super::input::CurveInput;
 use super::output::{emit, emit_json};
+use crate::reports::CurveReport;
 
 #[derive(Args)]
 pub struct CurveArgs {
@@ -17,31 +17,12 @@ pub struct CurveArgs {
     json: bool,
 }
 
-#[derive(Serialize)]
-struct CurveReport {
-    length_mm: f64,
-    points: usize,
-    s_mm: Vec<f64>,
-    curvature_per_mm: Vec<f64>,
-    /// 0 where undefined (see `torsion_defined`).
-    torsion_per_mm: Vec<f64>,
-    /// False where κ is too small for torsion to mean anything.
-    torsion_defined: Vec<bool>,
-}
-
 pub fn run(args: CurveArgs) -> Result<()> {
     let curve = args.input.load()?;
-    let analysis = analyse(&curve, &AnalysisOptions::default());
     if args.json {
-        return emit_json(&CurveReport {
-            length_mm: curve.length(),
-            points: curve.len(),
-            s_mm: analysis.s.clone(),
-            curvature_per_mm: analysis.curvature.clone(),
-            torsion_per_mm: analysis.torsion.clone(),
-            torsion_defined: analysis.torsion_defined.clone(),
-        });
+        return emit_json(&CurveReport::new(&curve));
     }
+    let analysis = analyse(&curve, &AnalysisOptions::default());
     let defined: Vec<f64> = analysis
         .torsion
         .iter()

@@ -224,7 +224,15 @@ pub async fn get(
     Path(id): Path<String>,
 ) -> Result<Response, Problem> {
     let row = owned(&state, &owner, &id).await?;
-    Ok(axum::Json(JobView::new(&row)).into_response())
+    let mut view = serde_json::to_value(JobView::new(&row)).map_err(Problem::internal)?;
+    // The one job also answers what was asked: the request as submitted and
+    // the search's budget in evaluations (progress against it).
+    if let Ok(request) = serde_json::from_str::<JobRequest>(&row.request) {
+        let fidelity = request.options.fidelity.unwrap_or_default();
+        view["search_budget"] = json!(request.options.budget.unwrap_or(fidelity.budget()));
+        view["request"] = serde_json::to_value(&request).map_err(Problem::internal)?;
+    }
+    Ok(axum::Json(view).into_response())
 }
 
 pub async fn cancel(
@@ -247,7 +255,15 @@ pub async fn cancel(
         tracing::info!(job = %id, "job cancelled");
     }
     let row = owned(&state, &owner, &id).await?;
-    Ok(axum::Json(JobView::new(&row)).into_response())
+    let mut view = serde_json::to_value(JobView::new(&row)).map_err(Problem::internal)?;
+    // The one job also answers what was asked: the request as submitted and
+    // the search's budget in evaluations (progress against it).
+    if let Ok(request) = serde_json::from_str::<JobRequest>(&row.request) {
+        let fidelity = request.options.fidelity.unwrap_or_default();
+        view["search_budget"] = json!(request.options.budget.unwrap_or(fidelity.budget()));
+        view["request"] = serde_json::to_value(&request).map_err(Problem::internal)?;
+    }
+    Ok(axum::Json(view).into_response())
 }
 
 pub async fn delete(

@@ -14,6 +14,7 @@ pub(crate) mod request;
 mod routes;
 mod state;
 mod store;
+mod web;
 mod worker;
 
 use std::sync::Arc;
@@ -111,6 +112,7 @@ fn app(state: AppState) -> Router {
     let cors = cors(&state.config);
     routes::router(Access::Open)
         .merge(keyed)
+        .merge(web::router())
         .fallback(|| async { Problem::not_found("no such route").into_response() })
         .method_not_allowed_fallback(|| async {
             Problem::new(

@@ -1,24 +1,27 @@
-//! Synchronous quick looks: `POST /v1/ksa`, `POST /v1/simulate` (with a time
-//! cap) and `GET /v1/presets`. The computation runs on a blocking thread.
+//! Synchronous quick looks: `POST /v1/curve`, `POST /v1/ksa`,
+//! `POST /v1/simulate` (with a time cap) and `GET /v1/presets`. The
+//! computation runs on a blocking thread.
 
 use std::time::{Duration, Instant};
 
 use axum::Json;
 use axum::extract::State;
 use axum::http::StatusCode;
-use patchwork_core::curve::{Preset, Units};
+use patchwork_core::curve::{Curve, Preset, Units};
 use patchwork_core::design::Design;
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::{SimulateOptions, simulate};
+use patchwork_core::inverse::Smoothing;
+use patchwork_core::inverse::input::{InputReport, check_smoothing, prepare};
 use patchwork_core::ksa::{KsaParams, Stretch, ksa};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 
 use super::problem::{ApiJson, Problem};
 use super::request::{CurveSpec, validate_design};
 use super::state::AppState;
-use crate::reports::{KsaReport, SimulateReport};
+use crate::reports::{CurveReport, KsaReport, SimulateReport, Surface};
 
 /// `POST /v1/ksa`; every field but `curve` defaults to the reference scene.
 #[derive(Debug, Deserialize)]
@@ -33,6 +36,9 @@ pub struct KsaRequest {
     width_mm: f64,
     /// Axial stretch λ; absent = the authors' uniform L_curve / L₀.
     stretch: Option<f64>,
+    /// The longest patch (mm): a longer run becomes a train of patches, as
+    /// in a design's seed; absent = one patch per run (the authors').
+    max_patch_mm: Option<f64>,
 }
 
 impl Default for KsaRequest {
@@ -48,6 +54,7 @@ impl Default for KsaRequest {
             merge_mm: p.merge_mm,
             width_mm: p.width_mm,
             stretch: None,
+            max_patch_mm: None,
         }
     }
 }
@@ -63,6 +70,9 @@ fn within(field: &str, value: f64, (min, max): (f64, f64)) -> Result<(), Problem
         ))
     }
 }
+
+/// The largest smoothing σ (mm) `POST /v1/curve` takes, as its schema says.
+const MAX_SMOOTHING_MM: f64 = 1e6;
 
 /// Ranges of KSA's parameters: lengths in mm, κ in mm⁻¹, the stretch λ.
 const LENGTH_RANGE: (f64, f64) = (0.001, 100_000.0);
@@ -91,6 +101,9 @@ pub async fn ksa_route(ApiJson(body): ApiJson<KsaRequest>) -> Result<Json<KsaRep
     if let Some(lambda) = body.stretch {
         within("stretch", lambda, STRETCH_RANGE)?;
     }
+    if let Some(longest) = body.max_patch_mm {
+        within("max_patch_mm", longest, LENGTH_RANGE)?;
+    }
     let curve = body.curve.load(body.units, "curve")?;
     let params = KsaParams {
         l0_mm: body.l0_mm,
@@ -99,12 +112,61 @@ pub async fn ksa_route(ApiJson(body): ApiJson<KsaRequest>) -> Result<Json<KsaRep
         merge_mm: body.merge_mm,
         width_mm: body.width_mm,
         stretch: body.stretch.map_or(Stretch::Uniform, Stretch::Fixed),
+        max_patch_mm: body.max_patch_mm,
         ..KsaParams::default()
     };
     blocking(move || {
         ksa(&curve, &params)
             .map(|r| Json(KsaReport::new(&curve, r)))
             .map_err(|e| Problem::invalid("curve", e.to_string()))
+    })
+    .await?
+}
+
+/// `POST /v1/curve`: the curve as a design job would read it.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurveRequest {
+    curve: CurveSpec,
+    #[serde(default)]
+    units: Units,
+    /// As a job's `options.smooth_mm`: absent, chosen from the noise found.
+    #[serde(default)]
+    smooth_mm: Option<f64>,
+}
+
+/// The target as the design sees it: its points after smoothing, their
+/// length, κ and τ, and what the smoothing found and did.
+#[derive(Debug, Serialize)]
+pub struct CurvePreview {
+    #[serde(flatten)]
+    report: CurveReport,
+    points_mm: Vec<[f64; 3]>,
+    /// The points as given, when the smoothing moved them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    given_mm: Option<Vec<[f64; 3]>>,
+    input: InputReport,
+}
+
+pub async fn curve_route(
+    ApiJson(body): ApiJson<CurveRequest>,
+) -> Result<Json<CurvePreview>, Problem> {
+    let curve = body.curve.load(body.units, "curve")?;
+    let smoothing = body.smooth_mm.map_or(Smoothing::Auto, Smoothing::Sigma);
+    if let Some(sigma) = body.smooth_mm {
+        within("smooth_mm", sigma, (0.0, MAX_SMOOTHING_MM))?;
+    }
+    check_smoothing(&curve, smoothing).map_err(|e| Problem::invalid("smooth_mm", e.to_string()))?;
+    blocking(move || {
+        let (prepared, input) = prepare(&curve, smoothing, KsaParams::default().kappa_tol)
+            .map_err(|e| Problem::invalid("curve", e.to_string()))?;
+        let xyz = |c: &Curve| c.points().iter().map(|p| [p.x, p.y, p.z]).collect();
+        Ok(Json(CurvePreview {
+            report: CurveReport::new(&prepared),
+            points_mm: xyz(&prepared),
+            given_mm: (input.smoothing_mm > 0.0).then(|| xyz(&curve)),
+            input,
+        }))
     })
     .await?
 }
@@ -125,6 +187,9 @@ pub struct SimulateRequest {
     /// How elements that a patch outline cuts are modelled.
     #[serde(default)]
     cut_elements: CutElements,
+    /// Also answer the inflated membrane (`surface`).
+    #[serde(default)]
+    surface: bool,
 }
 
 fn default_rings() -> usize {
@@ -164,6 +229,7 @@ pub async fn simulate_route(
         ));
     }
     let cap = state.config.simulate_time_limit;
+    let surface = body.surface;
     let options = SimulateOptions {
         mesh,
         rings: body.rings,
@@ -179,7 +245,11 @@ pub async fn simulate_route(
     let outcome = tokio::time::timeout(cap * 3 + Duration::from_secs(5), work).await;
     state.counters.simulate.record(started.elapsed());
     match outcome {
-        Ok(Ok(Ok(sim))) => Ok(Json(SimulateReport::new(&sim))),
+        Ok(Ok(Ok(sim))) => {
+            let mut report = SimulateReport::new(&sim);
+            report.surface = surface.then(|| Surface::new(&sim));
+            Ok(Json(report))
+        }
         Ok(Ok(Err(e))) => Err(Problem::invalid("design", e.to_string())),
         Ok(Err(p)) => Err(p),
         Err(_) => {

@@ -58,6 +58,7 @@ pub fn table() -> Vec<Route> {
         route("GET", "/v1/jobs/{id}/iterations", Keyed, jobs::iterations),
         route("GET", "/v1/jobs/{id}/result", Keyed, jobs::result),
         route("GET", "/v1/jobs/{id}/files/{name}", Keyed, jobs::file),
+        route("POST", "/v1/curve", Keyed, quick::curve_route),
         route("POST", "/v1/ksa", Keyed, quick::ksa_route),
         route("POST", "/v1/simulate", Keyed, quick::simulate_route),
         route("GET", "/v1/presets", Keyed, quick::presets),

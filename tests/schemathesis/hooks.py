@@ -57,11 +57,10 @@ def _curve_points(curve):
     return None
 
 
-def smoothing_ok(body):
-    """`options.smooth_mm` is at most a quarter of the curve's length. A
-    preset's length depends on its parameters: a preset with smoothing is
-    skipped."""
-    sigma = _dict(body.get("options")).get("smooth_mm")
+def smoothing_ok(body, sigma):
+    """`sigma` (a job's `options.smooth_mm`, `smooth_mm` of POST /v1/curve)
+    is at most a quarter of the curve's length. A preset's length depends
+    on its parameters: a preset with smoothing is skipped."""
     if not sigma:
         return True
     points = _curve_points(_dict(body.get("curve")))
@@ -126,7 +125,7 @@ def job_ok(body):
     mesh = _dict(body.get("tuning")).get("uniform_mesh_mm", PRESET_ELEMENT_MM)
     return (
         curve_ok(body.get("curve"))
-        and smoothing_ok(body)
+        and smoothing_ok(body, _dict(body.get("options")).get("smooth_mm"))
         and bounds_ok(body.get("bounds"))
         and balloon_ok(body.get("design"), mesh)
     )
@@ -143,6 +142,8 @@ def simulate_ok(body):
 
 RULES = {
     ("POST", "/v1/jobs"): job_ok,
+    ("POST", "/v1/curve"): lambda body: curve_ok(body.get("curve"))
+    and smoothing_ok(body, body.get("smooth_mm")),
     ("POST", "/v1/ksa"): lambda body: curve_ok(body.get("curve")),
     ("POST", "/v1/simulate"): simulate_ok,
 }

@@ -1,12 +1,16 @@
 //! Black-box tests of `patchwork serve` over real HTTP: each test starts the
-//! binary on port 0 with a fresh SQLite file.
+//! binary on port 0 with a fresh SQLite file. The web app's tests drive a
+//! real headless Chromium (`browser.rs`, over `webdriver.rs`).
 
 #[path = "../common/mod.rs"]
 mod common;
 mod support;
+mod webdriver;
 
 mod access;
 mod bad_input;
+mod browser;
 mod lifecycle;
+mod page_routes;
 mod recovery;
 mod schemathesis;

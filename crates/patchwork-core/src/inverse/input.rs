@@ -19,6 +19,12 @@ const NOISE_FLOOR_MM: f64 = 0.01;
 /// would lose more than the noise.
 const MAX_AUTO_SMOOTHING_MM: f64 = 8.0;
 
+/// Points closer than σ / `SAMPLES_PER_SIGMA` along the curve are
+/// resampled to that spacing before smoothing: a Gaussian of σ leaves
+/// nothing finer, and the smoothing's cost grows with the points under the
+/// kernel (100 000 points at σ = a quarter of the length took minutes).
+const SAMPLES_PER_SIGMA: f64 = 16.0;
+
 /// A curve whose points lie within this fraction of its length (RMS) of
 /// one plane is planar.
 const PLANAR_TOLERANCE: f64 = 1e-3;
@@ -73,7 +79,7 @@ pub fn prepare(
         ),
     };
     let prepared = match sigma > 0.0 {
-        true => with_ends_fitted(target, sigma)?.smoothed_twice(sigma)?,
+        true => with_ends_fitted(&thinned(target, sigma)?, sigma)?.smoothed_twice(sigma)?,
         false => target.clone(),
     };
     let report = InputReport {
@@ -84,6 +90,17 @@ pub fn prepare(
         planar_design: false,
     };
     Ok((prepared, report))
+}
+
+/// The curve resampled at σ / `SAMPLES_PER_SIGMA` where its points are
+/// denser than that; else as it is.
+fn thinned(curve: &Curve, sigma: f64) -> Result<Curve, CurveError> {
+    let spacing = sigma / SAMPLES_PER_SIGMA;
+    let gaps = (curve.len() - 1) as f64;
+    if curve.length() / gaps >= spacing {
+        return Ok(curve.clone());
+    }
+    curve.resample((curve.length() / spacing).ceil() as usize + 1)
 }
 
 /// A user's smoothing σ must be at most a quarter of the target's length:

@@ -51,3 +51,30 @@ fn a_helix_is_not_planar() {
     let helix = Preset::helix(20.0, 40.0, 1.0).generate(200).unwrap();
     assert!(!is_planar(&helix, 0.0));
 }
+
+/// Points far denser than σ are smoothed at σ/16 spacing: 100 000 points
+/// at σ = about a quarter of the length (minutes when every point was kept) give
+/// 69 points, and the same curve as the smoothing of 60 points (spacing
+/// above σ/16, so kept as given) within 0.1 % of its length.
+#[test]
+fn dense_points_are_smoothed_at_a_sixteenth_of_sigma() {
+    let arc = |samples| {
+        Preset::Arc(ArcParams {
+            radius_mm: 40.0,
+            angle_deg: 90.0,
+        })
+        .generate(samples)
+        .unwrap()
+    };
+    let dense = arc(100_000);
+    // About a quarter of the length (the 60-point chord is a little shorter).
+    let sigma = dense.length() / 4.2;
+    let (prepared, report) = prepare(&dense, Smoothing::Sigma(sigma), 0.01).unwrap();
+    assert_eq!(report.smoothing_mm, sigma);
+    assert_eq!(prepared.len(), 69);
+    let sparse = prepare(&arc(60), Smoothing::Sigma(sigma), 0.01);
+    let (sparse, _) = sparse.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(sparse.len(), 60);
+    let error = crate::curve::shape_error(&prepared, &sparse, 200).unwrap();
+    assert!(error.percent_of_length < 0.1, "{error:?}");
+}

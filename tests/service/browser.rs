@@ -1,0 +1,199 @@
+//! The web app in a real browser: headless Chromium driven over WebDriver
+//! against `patchwork serve` on port 0. Screenshots of the three main views
+//! go to `target/browser/`; with `PATCHWORK_DOCS_SCREENSHOT=1` the result
+//! view (of the grasp preset, designed at draft fidelity) also goes to
+//! `docs/images/web-app.png`, the README's picture.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use serde_json::json;
+
+use crate::support::*;
+use crate::webdriver::{Driver, Session, downloaded};
+
+fn screenshots() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("target/browser")
+}
+
+/// The page at 1280×800 with downloads going to `downloads`.
+async fn open(driver: &Driver, server: &Server, downloads: &Path) -> Session {
+    let session = driver.session(1280, 800, downloads).await;
+    session.goto(&format!("{}/", server.base)).await;
+    session
+}
+
+/// A CSV of points the way a lab would export it.
+fn write_csv(dir: &Path, preset: &[&str]) -> PathBuf {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_patchwork"))
+        .arg("preset")
+        .args(preset)
+        .output()
+        .unwrap();
+    assert!(output.status.success());
+    let path = dir.join("target-curve.csv");
+    std::fs::write(&path, output.stdout).unwrap();
+    path
+}
+
+/// From a CSV file to a downloaded DXF, in the browser alone: the file is
+/// read and drawn in 3D, the design runs with live progress, the result
+/// shows (centreline, surface, metrics), and patches.dxf downloads and
+/// passes ezdxf's audit.
+#[tokio::test(flavor = "multi_thread")]
+async fn a_csv_file_becomes_a_downloaded_dxf() {
+    let docs = std::env::var_os("PATCHWORK_DOCS_SCREENSHOT").is_some();
+    let server = Server::start();
+    let driver = Driver::start();
+    let dir = tempfile::tempdir().unwrap();
+    let (curve, budget): (&[&str], &str) = if docs {
+        (&["grasp"], "")
+    } else {
+        (&["helix", "radius_mm=15", "pitch_mm=40", "turns=0.6"], "30")
+    };
+    let csv = write_csv(dir.path(), curve);
+    let page = open(&driver, &server, dir.path()).await;
+
+    page.click("[data-source=file]").await;
+    page.choose_file("#curve-file", &csv).await;
+    let info = page
+        .wait_text("#curve-info", "the curve's length", |t| {
+            t.contains("mm long")
+        })
+        .await;
+    assert!(info.contains("KSA's first guess"), "{info}");
+    page.wait_true(
+        "return window.patchwork.view.inkFraction() > 0.01",
+        "the 3D view draws the curve",
+    )
+    .await;
+    let profiles = page
+        .execute(
+            "return document.querySelectorAll('#profiles path').length",
+            json!([]),
+        )
+        .await;
+    assert!(profiles.as_u64().unwrap() >= 2, "κ and τ are plotted");
+    page.screenshot(&screenshots().join("curve.png")).await;
+
+    page.select("#fidelity", "draft").await;
+    page.type_into("#budget", budget).await;
+    page.click("#submit").await;
+    page.wait_text("#job-heading", "the job's view", |t| t.starts_with("Job "))
+        .await;
+    page.wait_true(
+        "return document.querySelectorAll('#progress-chart path').length > 0",
+        "progress events drawn",
+    )
+    .await;
+    let facts = page.text("#job-facts").await;
+    assert!(facts.contains("evaluations"), "{facts}");
+    page.screenshot(&screenshots().join("progress.png")).await;
+
+    page.wait_text_for("#job-status", "success", Duration::from_secs(600), |t| {
+        t == "succeeded"
+    })
+    .await;
+    page.wait_true(
+        "return window.patchwork.view.has('surface') && window.patchwork.view.has('design')",
+        "the result's centreline and surface drawn",
+    )
+    .await;
+    // The page aligns the centreline to the target itself (align.js): its
+    // shape error is the server's, computed the same way.
+    let percent = page
+        .execute(
+            "return document.querySelector('[data-fact=\"shape error\"]').textContent",
+            json!([]),
+        )
+        .await;
+    assert!(percent.as_str().unwrap().contains('%'), "{percent}");
+    page.screenshot(&screenshots().join("result.png")).await;
+    if docs {
+        let image = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/images/web-app.png");
+        page.screenshot(&image).await;
+    }
+
+    page.click("[data-file=\"patches.dxf\"]").await;
+    let dxf = downloaded(dir.path(), "patches.dxf").await;
+    assert_eq!(crate::common::ezdxf_errors(&dxf), 0);
+    page.quit().await;
+}
+
+/// A malformed CSV: the server's message (with its line) appears beside the
+/// curve field, and nothing is submitted.
+#[tokio::test(flavor = "multi_thread")]
+async fn a_malformed_csv_shows_the_servers_message() {
+    let server = Server::start();
+    let driver = Driver::start();
+    let dir = tempfile::tempdir().unwrap();
+    let page = open(&driver, &server, dir.path()).await;
+    page.click("[data-source=paste]").await;
+    page.type_into("#curve-text", "x,y,z\n0,0,0\n1,0\n2,0,0\n3,0,0\n")
+        .await;
+    let message = page
+        .wait_text("#curve-error", "the server's message", |t| !t.is_empty())
+        .await;
+    assert!(message.contains("line 3"), "{message}");
+    assert!(message.contains("3 columns"), "{message}");
+    page.click("#submit").await;
+    let beside = page
+        .wait_text("#curve-error", "the job's refusal", |t| {
+            t.contains("line 3")
+        })
+        .await;
+    assert!(beside.contains("3 columns"), "{beside}");
+    let jobs = server
+        .api()
+        .get("/v1/jobs")
+        .await
+        .json::<serde_json::Value>()
+        .await
+        .unwrap();
+    assert_eq!(
+        jobs["jobs"].as_array().unwrap().len(),
+        0,
+        "nothing submitted"
+    );
+    page.quit().await;
+}
+
+/// With API keys: the page asks for one, says when a key is refused, and
+/// lists only the jobs of the key it was given.
+#[tokio::test(flavor = "multi_thread")]
+async fn with_keys_the_page_asks_and_lists_only_its_own_jobs() {
+    let server = Server::with(Options {
+        keys: Some("alice-key,bob-key"),
+        ..Options::default()
+    });
+    let alice = server.as_key("alice-key").submit(&quick_job(5)).await;
+    let bob = server.as_key("bob-key").submit(&quick_job(5)).await;
+    let driver = Driver::start();
+    let dir = tempfile::tempdir().unwrap();
+    let page = open(&driver, &server, dir.path()).await;
+    page.wait_text("#key-message", "a request for a key", |t| {
+        t.contains("needs an API key")
+    })
+    .await;
+    page.type_into("#api-key", "mallory-key").await;
+    page.click("#key-form button").await;
+    page.wait_text("#key-message", "the refusal", |t| t.contains("refused"))
+        .await;
+    page.type_into("#api-key", "bob-key").await;
+    page.click("#key-form button").await;
+    page.wait_text("#curve-info", "the preset read with bob's key", |t| {
+        t.contains("mm long")
+    })
+    .await;
+    page.click("#nav-jobs").await;
+    page.find(&format!("tr[data-job=\"{bob}\"]")).await;
+    let listed = page
+        .execute(
+            "return [...document.querySelectorAll('#jobs-table tr[data-job]')].map(r => r.dataset.job)",
+            json!([]),
+        )
+        .await;
+    assert_eq!(listed, json!([bob]), "alice's job {alice} is not listed");
+    page.screenshot(&screenshots().join("jobs.png")).await;
+    page.quit().await;
+}

@@ -1,0 +1,95 @@
+// A finished design: the predicted centreline over the target in 3D (and
+// the inflated surface, simulated again through POST /v1/simulate), the
+// metrics, κ/τ profiles, the patches (editable, to simulate a design by
+// hand), the placement template and the files.
+
+import { api, download } from "./api.js";
+import { align } from "./align.js";
+import { $, el, num } from "./dom.js";
+import { drawUnrolled } from "./unrolled.js";
+
+const FIELDS = [["x_mm", "X (mm)"], ["y_mm", "Y (mm)"], ["h_mm", "H (mm)"], ["w_mm", "W (mm)"], ["theta_deg", "Θ (°)"]];
+
+export async function showResult(page, jobId, result, preview) {
+  const target = preview?.points_mm;
+  const m = result.metrics;
+  const facts = $("#job-facts");
+  const rows = [
+    ["shape error", `${num(m.shape_error_percent, 3)} % of the length (${num(m.shape_error_mm, 3)} mm RMS)`],
+    ["DTW κ, τ", `${num(m.dtw_curvature, 3)}, ${num(m.dtw_torsion, 3)}`],
+    ["target", `${num(result.target_length_mm, 4)} mm`],
+    ["inflated", `${num(result.inflated_length_mm, 4)} mm`],
+    ["cut the balloon", `${num(result.uninflated_length_to_cut_mm, 4)} mm long`],
+    ["patches", result.design.patches.length],
+    ["time", `${num(result.elapsed_s, 3)} s, ${result.evaluations} evaluations`],
+  ];
+  facts.append(...rows.flatMap(([k, v]) => [el("dt", { text: k }), el("dd", { text: String(v), "data-fact": k })]));
+  if (target) {
+    const fit = align(result.centreline_mm, target);
+    page.view.curve("design", result.centreline_mm.map(fit.apply), {
+      colour: "#1f6feb", label: "designed balloon, inflated (centreline)", radius: page.tubeRadius * 0.8 });
+    page.view.fit();
+  }
+  if (preview) page.showProfiles(preview, [
+    { name: "κ design", y: result.profiles.curvature_per_mm, colour: "#1f6feb" },
+    { name: "τ design", y: result.profiles.torsion_per_mm, colour: "#d9480f" },
+  ], result.target_length_mm);
+  $("#unrolled-caption").textContent = "The design's patches on the unrolled balloon (as cut)";
+  drawUnrolled($("#unrolled"), {
+    lengthMm: result.design.balloon.length_mm, radiusMm: result.design.balloon.radius_mm, patches: result.design.patches });
+  patchTable(page, result.design, target);
+  for (const button of document.querySelectorAll("#downloads [data-file]")) {
+    button.onclick = () => download(jobId, button.dataset.file).catch((e) => ($("#job-error").textContent = e.message));
+  }
+  showTemplate(jobId);
+  if (target) await inflate(page, result.design, target, "surface", "inflated membrane");
+}
+
+/** Simulates `design` with its surface and draws both, aligned to the target. */
+async function inflate(page, design, target, name, label) {
+  const started = performance.now();
+  const sim = await api("POST", "/v1/simulate", { design, surface: true });
+  const fit = align(sim.centreline_mm, target);
+  page.view.surface(name, sim.surface, fit.apply, label);
+  page.view.setVisible(name, $("#show-surface").checked);
+  return { sim, fit, seconds: (performance.now() - started) / 1000 };
+}
+
+function patchTable(page, design, target) {
+  const table = $("#patch-table");
+  const head = el("tr", {}, el("th", { scope: "col", text: "patch" }), ...FIELDS.map(([, h]) => el("th", { scope: "col", text: h })));
+  const rows = design.patches.map((p, i) => el("tr", {}, el("th", { scope: "row", text: `P${i + 1}` }),
+    ...FIELDS.map(([key, h]) => el("td", {}, el("input", { type: "number", step: "any", value: +p[key].toFixed(3),
+      "aria-label": `P${i + 1} ${h}`, "data-patch": i, "data-key": key })))));
+  table.replaceChildren(el("thead", {}, head), el("tbody", {}, ...rows));
+  $("#patches-panel").hidden = false;
+  $("#simulate-error").textContent = "";
+  $("#simulate-info").textContent = "";
+  $("#simulate").onclick = async () => {
+    const edited = structuredClone(design);
+    for (const input of table.querySelectorAll("input")) edited.patches[input.dataset.patch][input.dataset.key] = Number(input.value);
+    $("#simulate").disabled = true;
+    $("#simulate-error").textContent = "";
+    $("#simulate-info").textContent = "Simulating…";
+    try {
+      const { sim, fit, seconds } = await inflate(page, edited, target, "surface", "inflated membrane (edited patches)");
+      page.view.curve("edited", sim.centreline_mm.map(fit.apply), {
+        colour: "#2b8a3e", label: "edited patches, inflated (centreline)", radius: page.tubeRadius * 0.8 });
+      page.view.render();
+      $("#simulate-info").textContent =
+        `edited design: shape error ${num(fit.percent, 3)} % (${num(fit.rmsMm, 3)} mm), inflated ${num(sim.inflated_length_mm, 4)} mm, ${num(seconds, 2)} s`;
+    } catch (error) {
+      $("#simulate-info").textContent = "";
+      $("#simulate-error").textContent = error.field ? `${error.field}: ${error.message}` : error.message;
+    } finally {
+      $("#simulate").disabled = false;
+    }
+  };
+}
+
+async function showTemplate(jobId) {
+  const response = await api("GET", `/v1/jobs/${jobId}/files/template.svg`, undefined, { raw: true });
+  const url = URL.createObjectURL(await response.blob());
+  $("#template").replaceChildren(el("img", { src: url, alt: "Placement template: the balloon unrolled with each patch's outline and dimensions" }));
+  $("#template-panel").hidden = false;
+}

@@ -1,0 +1,76 @@
+// The design form: fidelity, seed, budget, balloon, patches and bounds,
+// sent with the curve as POST /v1/jobs. The server's validation errors go
+// beside the field they name.
+
+import { api, ApiError } from "./api.js";
+import { $, clearFieldErrors, showFieldError } from "./dom.js";
+
+/** Number inputs → request paths (left out when empty: the server's default). */
+const NUMBERS = [
+  ["#seed", ["options", "seed"]],
+  ["#budget", ["options", "budget"]],
+  ["#radius", ["design", "balloon", "radius_mm"]],
+  ["#wall", ["design", "balloon", "wall_mm"]],
+  ["#pressure", ["design", "pressure_kpa"]],
+  ["#thickness", ["design", "patch", "thickness_mm"]],
+  ["#h-min", ["bounds", "h_min_mm"]],
+  ["#h-max", ["bounds", "h_max_mm"]],
+  ["#w-min", ["bounds", "w_min_mm"]],
+  ["#w-max", ["bounds", "w_max_mm"]],
+];
+
+function put(object, path, value) {
+  let node = object;
+  for (const key of path.slice(0, -1)) node = node[key] ??= {};
+  node[path[path.length - 1]] = value;
+}
+
+function get(object, path) {
+  return path.reduce((node, key) => node?.[key], object);
+}
+
+/** The job request from the forms; throws an ApiError naming a field the page can check itself. */
+export function jobRequest(curveSpec) {
+  if (!curveSpec) throw new ApiError(422, { detail: "give the target curve first", field: "curve" });
+  const request = { curve: curveSpec.curve, units: curveSpec.units, options: { fidelity: $("#fidelity").value } };
+  if (curveSpec.smooth_mm !== undefined) request.options.smooth_mm = curveSpec.smooth_mm;
+  for (const [id, path] of NUMBERS) {
+    const text = $(id).value.trim();
+    if (text !== "") put(request, path, Number(text));
+  }
+  const material = $("#material").value.trim();
+  if (material) {
+    try {
+      put(request, ["design", "balloon", "material"], JSON.parse(material));
+    } catch (e) {
+      throw new ApiError(422, { detail: `not JSON: ${e.message}`, field: "design.balloon.material" });
+    }
+  }
+  return request;
+}
+
+/** Sets the form from a job's request (to edit and run again). */
+export function fillForm(request) {
+  $("#fidelity").value = request.options?.fidelity || "standard";
+  for (const [id, path] of NUMBERS) $(id).value = get(request, path) ?? (id === "#seed" ? 1 : "");
+  const material = request.design?.balloon?.material;
+  $("#material").value = material ? JSON.stringify(material) : "";
+}
+
+/** Submits; resolves to the created job, or shows the problem and resolves to null. */
+export async function submit(curveSpec) {
+  const form = $("#view-design");
+  clearFieldErrors(form);
+  $("#design-error").textContent = "";
+  const button = $("#submit");
+  button.disabled = true;
+  try {
+    return await api("POST", "/v1/jobs", jobRequest(curveSpec));
+  } catch (error) {
+    if (error.status === 401) return null;
+    showFieldError(error, form, $("#design-error"));
+    return null;
+  } finally {
+    button.disabled = false;
+  }
+}
