@@ -117,6 +117,17 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
     page.click("[data-file=\"patches.dxf\"]").await;
     let dxf = downloaded(dir.path(), "patches.dxf").await;
     assert_eq!(crate::common::ezdxf_errors(&dxf), 0);
+
+    // On a tablet held upright the views stack: nothing runs off the side.
+    page.resize(820, 1180).await;
+    page.wait_true(
+        "return document.documentElement.scrollWidth <= window.innerWidth \
+         && getComputedStyle(document.querySelector('main')).gridTemplateColumns.split(' ').length == 1",
+        "a single column without horizontal scrolling at 820 px",
+    )
+    .await;
+    page.screenshot(&screenshots().join("result-tablet.png"))
+        .await;
     page.quit().await;
 }
 

@@ -111,11 +111,16 @@ async fn simulate_answers_the_inflated_surface_when_asked() {
 async fn a_job_answers_its_request_and_budget() {
     let server = Server::start();
     let api = server.api();
-    let id = api.submit(&quick_job(7)).await;
+    let mut asked = quick_job(7);
+    asked["tuning"] = json!({"gentle_bends": false});
+    let id = api.submit(&asked).await;
     let job = api.job(&id).await;
     assert_schema("Job", &job);
     assert_eq!(job["search_budget"], 7);
-    assert_eq!(job["request"]["curve"], quick_job(7)["curve"]);
+    assert_eq!(job["request"]["curve"], asked["curve"]);
+    // The request answered is one the server takes again (no nulls).
+    assert_eq!(job["request"]["tuning"], asked["tuning"]);
+    assert_eq!(api.post("/v1/jobs", &job["request"]).await.status(), 202);
     let plain = json!({"curve": {"preset": "arc"}, "options": {"fidelity": "draft"}});
     let id = api.submit(&plain).await;
     let job = api.job(&id).await;

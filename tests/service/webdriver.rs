@@ -164,6 +164,16 @@ impl Session {
         }
     }
 
+    /// Resizes the window to `width`×`height`.
+    pub async fn resize(&self, width: u32, height: u32) {
+        self.command(
+            "POST",
+            "/window/rect",
+            json!({"width": width, "height": height}),
+        )
+        .await;
+    }
+
     pub async fn goto(&self, url: &str) {
         self.command("POST", "/url", json!({"url": url})).await;
     }
