@@ -101,18 +101,45 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
     .await;
     // The page aligns the centreline to the target itself (align.js): its
     // shape error is the server's, computed the same way.
-    let percent = page
-        .execute(
-            "return document.querySelector('[data-fact=\"shape error\"]').textContent",
-            json!([]),
-        )
+    let fit = page
+        .execute("return window.patchwork.resultFit", json!([]))
         .await;
-    assert!(percent.as_str().unwrap().contains('%'), "{percent}");
+    let (ours, server) = (
+        fit["percent"].as_f64().unwrap(),
+        fit["server"].as_f64().unwrap(),
+    );
+    assert!(
+        (ours / server - 1.0).abs() < 0.01,
+        "page {ours} % vs server {server} %"
+    );
     page.screenshot(&screenshots().join("result.png")).await;
     if docs {
         let image = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/images/web-app.png");
         page.screenshot(&image).await;
     }
+
+    // A design checked by hand: P1 turned by 10°, simulated, drawn.
+    let theta = "input[data-patch=\"0\"][data-key=\"theta_deg\"]";
+    let value = page
+        .execute(
+            &format!("return document.querySelector('{theta}').value"),
+            json!([]),
+        )
+        .await;
+    let turned = value.as_str().unwrap().parse::<f64>().unwrap() + 10.0;
+    page.type_into(theta, &turned.to_string()).await;
+    page.click("#simulate").await;
+    let checked = page
+        .wait_text("#simulate-info", "the edited design's shape error", |t| {
+            t.starts_with("edited design: shape error")
+        })
+        .await;
+    assert!(checked.contains('%'), "{checked}");
+    assert_eq!(
+        page.execute("return window.patchwork.view.has('edited')", json!([]))
+            .await,
+        json!(true)
+    );
 
     page.click("[data-file=\"patches.dxf\"]").await;
     let dxf = downloaded(dir.path(), "patches.dxf").await;
@@ -129,6 +156,63 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
     page.screenshot(&screenshots().join("result-tablet.png"))
         .await;
     page.quit().await;
+}
+
+/// The server killed (kill -9) while the page watches a job, and started
+/// again on the same address: the page reconnects by itself, the job
+/// resumes from its checkpoint, and the page has shown every event of the
+/// job exactly once.
+#[tokio::test(flavor = "multi_thread")]
+async fn the_page_reconnects_after_the_server_dies_and_misses_no_event() {
+    let dir = tempfile::tempdir().unwrap();
+    let addr = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap();
+    let options = Options {
+        workers: Some(1),
+        db: Some(dir.path().join("patchwork.db")),
+        addr: Some(addr),
+        ..Options::default()
+    };
+    let mut server = Server::with(options.clone());
+    let id = server.api().submit(&long_job(300)).await;
+    let driver = Driver::start();
+    let session = driver.session(1280, 800, dir.path()).await;
+    session.goto(&format!("{}/#/jobs/{id}", server.base)).await;
+    session
+        .wait_true(
+            "return window.patchwork.job.progress.length >= 2",
+            "progress shown before the kill",
+        )
+        .await;
+    server.kill_hard();
+    let server = Server::with(options);
+    session
+        .wait_text_for("#job-status", "success", Duration::from_secs(600), |t| {
+            t == "succeeded"
+        })
+        .await;
+    let page = session
+        .execute(
+            "return {seen: window.patchwork.job.seen, reconnects: window.patchwork.job.reconnects}",
+            json!([]),
+        )
+        .await;
+    assert!(page["reconnects"].as_u64().unwrap() >= 1, "{page}");
+    let shown: Vec<u64> = page["seen"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_u64().unwrap())
+        .collect();
+    let stored: Vec<u64> = read_events(&server.api(), &id, None, |_| false)
+        .await
+        .iter()
+        .map(|e| e.id)
+        .collect();
+    assert_eq!(shown, stored, "every event once, in order");
+    session.quit().await;
 }
 
 /// A malformed CSV: the server's message (with its line) appears beside the

@@ -33,6 +33,9 @@ pub struct Options {
     /// Contents of a TOML config file passed with --config.
     pub config: Option<&'static str>,
     pub job_time_limit_s: Option<u64>,
+    /// Listen here instead of on a free port (restart tests that keep a
+    /// client's address).
+    pub addr: Option<std::net::SocketAddr>,
 }
 
 impl Server {
@@ -52,7 +55,13 @@ impl Server {
         let log = db.with_extension(format!("{}.log", std::process::id()));
         let mut command = Command::new(env!("CARGO_BIN_EXE_patchwork"));
         command
-            .args(["serve", "--addr", "127.0.0.1:0", "--db"])
+            .args(["serve", "--addr"])
+            .arg(
+                options
+                    .addr
+                    .map_or("127.0.0.1:0".to_string(), |a| a.to_string()),
+            )
+            .arg("--db")
             .arg(&db)
             .args(["--workers", &options.workers.unwrap_or(2).to_string()])
             .env("PATCHWORK_API_KEYS", options.keys.unwrap_or(""))

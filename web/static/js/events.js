@@ -9,7 +9,7 @@ const FINAL = new Set(["done", "failed", "cancelled"]);
 /**
  * Streams `/v1/jobs/{id}/events` to `onEvent({id, event, data})` until a
  * final event; `onState("live" | "reconnecting")` tells the connection's
- * state. Returns a function that stops the stream.
+ * state. Returns `{stop()}`, which ends the stream.
  */
 export function followEvents(jobId, onEvent, onState = () => {}) {
   const controller = new AbortController();
@@ -24,6 +24,7 @@ export function followEvents(jobId, onEvent, onState = () => {}) {
         const response = await fetch(`/v1/jobs/${jobId}/events`, {
           headers: headers({ Accept: "text/event-stream", ...extra }),
           signal: controller.signal,
+          cache: "no-store",
         });
         if (response.status === 404 || response.status === 401) {
           onEvent({ id: null, event: "failed", data: { error: `events: HTTP ${response.status}` } });
@@ -47,7 +48,7 @@ export function followEvents(jobId, onEvent, onState = () => {}) {
     }
   }
   connect();
-  return () => controller.abort();
+  return { stop: () => controller.abort() };
 }
 
 /** Parses an event stream (`id:`, `event:`, `data:` lines; blank line ends one). */

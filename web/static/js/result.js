@@ -26,6 +26,8 @@ export async function showResult(page, jobId, result, preview) {
   facts.append(...rows.flatMap(([k, v]) => [el("dt", { text: k }), el("dd", { text: String(v), "data-fact": k })]));
   if (target) {
     const fit = align(result.centreline_mm, target);
+    // The page's alignment reproduces the server's shape error (a browser test compares them).
+    page.resultFit = { percent: fit.percent, server: m.shape_error_percent };
     page.view.curve("design", result.centreline_mm.map(fit.apply), {
       colour: "#1f6feb", label: "designed balloon, inflated (centreline)", radius: page.tubeRadius * 0.8 });
     page.view.fit();

@@ -27,6 +27,7 @@ export class View3D {
     this.grid = new THREE.Group();
     this.scene.add(this.grid);
     this.controls = new OrbitControls(this.camera, canvas);
+    this.controls.listenToKeyEvents(canvas); // arrow keys pan when the view has focus
     this.controls.addEventListener("change", () => this.render());
     canvas.addEventListener("keydown", (e) => { if (e.key === "r" || e.key === "R") this.fit(); });
     new ResizeObserver(() => this.resize()).observe(canvas);

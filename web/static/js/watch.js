@@ -35,6 +35,10 @@ export class JobPage {
     this.stop();
     this.id = id;
     this.progress = [];
+    // The ids of the events shown, and how often the stream reconnected
+    // (the browser tests read both).
+    this.seen = [];
+    this.reconnects = 0;
     this.stage = null;
     $("#job-error").textContent = "";
     $("#downloads").hidden = true;
@@ -42,6 +46,8 @@ export class JobPage {
     $("#patches-panel").hidden = true;
     $("#template-panel").hidden = true;
     $("#job-heading").textContent = `Job ${id.slice(0, 8)}…`;
+    $("#unrolled-caption").textContent = "The design's patches on the unrolled balloon, when it is done";
+    $("#unrolled").replaceChildren();
     this.page.clearDesign();
     try {
       this.job = await api("GET", `/v1/jobs/${id}`);
@@ -60,7 +66,8 @@ export class JobPage {
         $("#job-error").textContent = `the target: ${error.message}`;
       }
     }
-    this.stop = followEvents(id, (e) => this.event(e), (state) => this.connection(state));
+    const stream = followEvents(id, (e) => this.event(e), (state) => this.connection(state));
+    this.stop = stream.stop;
   }
 
   showStatus() {
@@ -79,11 +86,13 @@ export class JobPage {
   }
 
   connection(state) {
+    if (state === "reconnecting") this.reconnects++;
     if (state === "reconnecting") this.status(`${this.job.status} (connection lost, reconnecting…)`, this.job.status);
     else this.showStatus();
   }
 
-  event({ event, data }) {
+  event({ id, event, data }) {
+    if (id !== null) this.seen.push(Number(id));
     if (event === "stage") {
       this.stage = data.stage;
       if (data.stage !== "queued") this.job.status = "running";
