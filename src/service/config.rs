@@ -10,15 +10,19 @@ use clap::Args;
 use serde::Deserialize;
 use sha2::{Digest, Sha256};
 
+use super::store::Database;
+
 #[derive(Args, Debug)]
 pub struct ServeArgs {
     /// Address to listen on (port 0 picks a free port; the chosen address is
     /// printed on the first line of stdout).
     #[arg(long, default_value = "127.0.0.1:8080")]
     pub addr: SocketAddr,
-    /// SQLite database file (created and migrated if missing).
+    /// Where jobs are kept: a SQLite file (created and migrated if
+    /// missing), or a PostgreSQL database as postgres://USER:PASSWORD@HOST:PORT/DB
+    /// (migrated at start; the database must exist).
     #[arg(long, default_value = "./patchwork.db")]
-    pub db: PathBuf,
+    pub db: String,
     /// Design jobs computed at once (default: one per core).
     #[arg(long)]
     pub workers: Option<usize>,
@@ -51,7 +55,7 @@ struct ConfigFile {
 #[derive(Debug, Clone)]
 pub struct Config {
     pub addr: SocketAddr,
-    pub db: PathBuf,
+    pub db: Database,
     pub workers: usize,
     /// Owners (key digests) allowed; empty = no authentication.
     pub owners: Vec<String>,
@@ -89,7 +93,7 @@ impl Config {
         anyhow::ensure!(queue_capacity >= 1, "--queue-capacity must be at least 1");
         Ok(Config {
             addr: args.addr,
-            db: args.db.clone(),
+            db: Database::parse(&args.db),
             workers,
             owners: keys.iter().map(|k| owner_of(k)).collect(),
             cors_origins: file.cors_origins.unwrap_or_default(),

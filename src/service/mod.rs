@@ -59,7 +59,7 @@ pub fn run(args: ServeArgs) -> Result<()> {
 async fn serve(config: Config) -> Result<()> {
     let store = Store::open(&config.db)
         .await
-        .with_context(|| format!("opening the database {}", config.db.display()))?;
+        .with_context(|| format!("opening the database {}", config.db))?;
     let requeued = store.requeue_running().await?;
     if requeued > 0 {
         tracing::info!(

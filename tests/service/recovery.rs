@@ -87,14 +87,19 @@ async fn sigterm_checkpoints_running_jobs_and_the_next_start_finishes_them() {
 
 /// A job queued by a server whose requests still carried the research
 /// options (`options.patience`, `options.refine`, `objective`) runs after an
-/// upgrade: the migration moves them into `tuning`.
+/// upgrade: the migration moves them into `tuning`. A SQLite file's own
+/// migration (PostgreSQL stores came later, with `tuning` from the start).
 #[tokio::test(flavor = "multi_thread")]
 async fn a_job_queued_before_the_tuning_object_runs_after_the_upgrade() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("patchwork.db");
     let first = dir.path().join("migrations");
     std::fs::create_dir(&first).unwrap();
-    std::fs::copy("migrations/0001_jobs.sql", first.join("0001_jobs.sql")).unwrap();
+    std::fs::copy(
+        "migrations/sqlite/0001_jobs.sql",
+        first.join("0001_jobs.sql"),
+    )
+    .unwrap();
     let old_request = serde_json::json!({
         "curve": {"preset": "arc", "params": {"radius_mm": 40, "angle_deg": 90}},
         "options": {"budget": 8, "seed": 3, "fidelity": "draft", "patience": 0, "refine": 2,
@@ -122,6 +127,7 @@ async fn a_job_queued_before_the_tuning_object_runs_after_the_upgrade() {
     let server = Server::with(Options {
         workers: Some(1),
         db: Some(db),
+        sqlite: true,
         ..Options::default()
     });
     let api = server.api();

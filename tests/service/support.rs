@@ -1,5 +1,9 @@
-//! A real `patchwork serve` process on port 0 with a fresh SQLite file, an HTTP
+//! A real `patchwork serve` process on port 0 with a fresh database, an HTTP
 //! client, a server-sent-events reader and validation against openapi.yaml.
+//!
+//! The database is a SQLite file, or with `PATCHWORK_TEST_POSTGRES` set to a
+//! PostgreSQL server's URL (`.ci/run` starts a throwaway one), a fresh
+//! database on that server: the same tests against either backend.
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -36,6 +40,51 @@ pub struct Options {
     /// Listen here instead of on a free port (restart tests that keep a
     /// client's address).
     pub addr: Option<std::net::SocketAddr>,
+    /// A SQLite file whatever the backend under test (SQLite's own migrations).
+    pub sqlite: bool,
+}
+
+/// The `--db` of a server whose SQLite file would be `file`: that file, or
+/// under `PATCHWORK_TEST_POSTGRES` a database named after it on that server
+/// (created the first time; a restarted server finds its jobs again).
+fn database_for(file: &Path) -> String {
+    let Ok(server) = std::env::var("PATCHWORK_TEST_POSTGRES") else {
+        return file.display().to_string();
+    };
+    use std::hash::{Hash, Hasher};
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    file.hash(&mut hasher);
+    let name = format!("patchwork_{:016x}", hasher.finish());
+    let psql = |sql: &str| {
+        let output = Command::new("psql")
+            .args([
+                "-X",
+                "-q",
+                "-t",
+                "-A",
+                "-v",
+                "ON_ERROR_STOP=1",
+                &server,
+                "-c",
+                sql,
+            ])
+            .output()
+            .expect("psql runs (PostgreSQL's client; `.ci/run` installs it)");
+        assert!(
+            output.status.success(),
+            "psql {sql}: {}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        String::from_utf8_lossy(&output.stdout).trim().to_string()
+    };
+    let exists = psql(&format!(
+        "SELECT count(*) FROM pg_database WHERE datname = '{name}'"
+    ));
+    if exists == "0" {
+        psql(&format!("CREATE DATABASE {name}"));
+    }
+    let base = server.rsplit_once('/').map_or(server.as_str(), |(b, _)| b);
+    format!("{base}/{name}")
 }
 
 impl Server {
@@ -53,6 +102,10 @@ impl Server {
             }
         };
         let log = db.with_extension(format!("{}.log", std::process::id()));
+        let database = match options.sqlite {
+            true => db.display().to_string(),
+            false => database_for(&db),
+        };
         let mut command = Command::new(env!("CARGO_BIN_EXE_patchwork"));
         command
             .args(["serve", "--addr"])
@@ -62,7 +115,7 @@ impl Server {
                     .map_or("127.0.0.1:0".to_string(), |a| a.to_string()),
             )
             .arg("--db")
-            .arg(&db)
+            .arg(&database)
             .args(["--workers", &options.workers.unwrap_or(2).to_string()])
             .env("PATCHWORK_API_KEYS", options.keys.unwrap_or(""))
             .env("RUST_LOG", "info")

@@ -1,68 +1,22 @@
-//! The job store: one SQLite file (WAL, busy timeout, foreign keys), migrated
-//! at start by sqlx from `migrations/`. Every event, iteration, checkpoint and
-//! result file of a job lives here, so nothing is lost on restart.
+//! The SQLite backend: one file (WAL, busy timeout, foreign keys), migrated
+//! at start by sqlx from `migrations/sqlite/`. The default; one node.
 
 use std::path::Path;
 use std::time::Duration;
 
 use patchwork_core::fabrication::OutputFile;
-use serde::Serialize;
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
 use sqlx::{FromRow, SqliteConnection, SqlitePool};
 
+use super::{Iteration, JOB_COLUMNS, JobRow, StoredEvent, now};
+
 #[derive(Clone)]
-pub struct Store {
+pub struct SqliteStore {
     pool: SqlitePool,
 }
 
-/// A job as stored (without its checkpoint and result).
-#[derive(Debug, Clone, FromRow)]
-pub struct JobRow {
-    pub id: String,
-    pub status: String,
-    pub request: String,
-    pub created_at: String,
-    pub updated_at: String,
-    pub progress: Option<String>,
-    pub error: Option<String>,
-}
-
-/// One server-sent event of a job.
-#[derive(Debug, Clone, FromRow)]
-pub struct StoredEvent {
-    pub seq: i64,
-    pub kind: String,
-    pub data: String,
-}
-
-/// One CMA-ES generation of a job.
-#[derive(Debug, Clone, Serialize, FromRow)]
-pub struct Iteration {
-    pub evaluations: i64,
-    pub generation: i64,
-    pub best_objective: f64,
-    pub sigma: f64,
-    pub elapsed_s: f64,
-}
-
-/// Every job status, and those of jobs that have ended.
-pub const STATUSES: [&str; 5] = ["queued", "running", "succeeded", "failed", "cancelled"];
-pub const TERMINAL: [&str; 3] = ["succeeded", "failed", "cancelled"];
-
-const JOB_COLUMNS: &str = "id, status, request, created_at, updated_at, progress, error";
-
-/// Now, as fixed-width RFC 3339 UTC (sorts as text).
-pub fn now() -> String {
-    let format = time::macros::format_description!(
-        "[year]-[month]-[day]T[hour]:[minute]:[second].[subsecond digits:6]Z"
-    );
-    time::OffsetDateTime::now_utc()
-        .format(&format)
-        .unwrap_or_default()
-}
-
-impl Store {
-    pub async fn open(path: &Path) -> Result<Store, sqlx::Error> {
+impl SqliteStore {
+    pub(super) async fn open(path: &Path) -> Result<SqliteStore, sqlx::Error> {
         let options = SqliteConnectOptions::new()
             .filename(path)
             .create_if_missing(true)
@@ -74,16 +28,16 @@ impl Store {
             .max_connections(8)
             .connect_with(options)
             .await?;
-        sqlx::migrate!("./migrations").run(&pool).await?;
-        Ok(Store { pool })
+        sqlx::migrate!("./migrations/sqlite").run(&pool).await?;
+        Ok(SqliteStore { pool })
     }
 
-    pub async fn ping(&self) -> bool {
+    pub(super) async fn ping(&self) -> bool {
         sqlx::query("SELECT 1").execute(&self.pool).await.is_ok()
     }
 
     /// Inserts a queued job; `None` when the owner already used `idempotency_key`.
-    pub async fn insert_job(
+    pub(super) async fn insert_job(
         &self,
         id: &str,
         owner: &str,
@@ -107,7 +61,7 @@ impl Store {
             .await
     }
 
-    pub async fn job_by_idempotency_key(
+    pub(super) async fn job_by_idempotency_key(
         &self,
         owner: &str,
         key: &str,
@@ -121,7 +75,11 @@ impl Store {
     }
 
     /// The job if it exists and belongs to `owner` (`None` sees every job).
-    pub async fn job(&self, id: &str, owner: Option<&str>) -> Result<Option<JobRow>, sqlx::Error> {
+    pub(super) async fn job(
+        &self,
+        id: &str,
+        owner: Option<&str>,
+    ) -> Result<Option<JobRow>, sqlx::Error> {
         let sql =
             format!("SELECT {JOB_COLUMNS} FROM jobs WHERE id = ? AND (? IS NULL OR owner = ?)");
         sqlx::query_as(&sql)
@@ -133,7 +91,7 @@ impl Store {
     }
 
     /// Newest first; `before` is the id of the last job of the previous page.
-    pub async fn list_jobs(
+    pub(super) async fn list_jobs(
         &self,
         owner: Option<&str>,
         status: Option<&str>,
@@ -155,20 +113,20 @@ impl Store {
             .await
     }
 
-    pub async fn count_by_status(&self) -> Result<Vec<(String, i64)>, sqlx::Error> {
+    pub(super) async fn count_by_status(&self) -> Result<Vec<(String, i64)>, sqlx::Error> {
         sqlx::query_as("SELECT status, COUNT(*) FROM jobs GROUP BY status")
             .fetch_all(&self.pool)
             .await
     }
 
-    pub async fn queued_count(&self) -> Result<i64, sqlx::Error> {
+    pub(super) async fn queued_count(&self) -> Result<i64, sqlx::Error> {
         sqlx::query_scalar("SELECT COUNT(*) FROM jobs WHERE status = 'queued'")
             .fetch_one(&self.pool)
             .await
     }
 
     /// Takes the oldest queued job and marks it running.
-    pub async fn claim_next(&self) -> Result<Option<(JobRow, Option<String>)>, sqlx::Error> {
+    pub(super) async fn claim_next(&self) -> Result<Option<(JobRow, Option<String>)>, sqlx::Error> {
         let sql = format!(
             "UPDATE jobs SET status = 'running', updated_at = ?
              WHERE id = (SELECT id FROM jobs WHERE status = 'queued' ORDER BY id LIMIT 1)
@@ -190,7 +148,7 @@ impl Store {
 
     /// After a crash: jobs that were running are queued again (they resume
     /// from their checkpoints). Returns how many.
-    pub async fn requeue_running(&self) -> Result<u64, sqlx::Error> {
+    pub(super) async fn requeue_running(&self) -> Result<u64, sqlx::Error> {
         Ok(sqlx::query(
             "UPDATE jobs SET status = 'queued', updated_at = ? WHERE status = 'running'",
         )
@@ -201,7 +159,7 @@ impl Store {
     }
 
     /// Puts a running job back in the queue (shutdown); its checkpoint stays.
-    pub async fn requeue(&self, id: &str) -> Result<(), sqlx::Error> {
+    pub(super) async fn requeue(&self, id: &str) -> Result<(), sqlx::Error> {
         sqlx::query(
             "UPDATE jobs SET status = 'queued', updated_at = ? WHERE id = ? AND status = 'running'",
         )
@@ -215,7 +173,7 @@ impl Store {
     /// Ends a job that has not ended — `failed` or `cancelled` — and stores its
     /// final event in the same transaction, so an ended job always has its
     /// final event. `None` when the job had already ended.
-    pub async fn end(
+    pub(super) async fn end(
         &self,
         id: &str,
         status: &str,
@@ -242,7 +200,7 @@ impl Store {
     }
 
     /// Appends an event with the job's next id.
-    pub async fn append_event(
+    pub(super) async fn append_event(
         &self,
         id: &str,
         kind: &str,
@@ -252,7 +210,7 @@ impl Store {
         insert_event(&mut connection, id, (kind, data)).await
     }
 
-    pub async fn events_after(
+    pub(super) async fn events_after(
         &self,
         id: &str,
         after: i64,
@@ -267,7 +225,7 @@ impl Store {
     }
 
     /// The latest progress, and the generation's row when it is one.
-    pub async fn record_progress(
+    pub(super) async fn record_progress(
         &self,
         id: &str,
         progress: &str,
@@ -298,7 +256,11 @@ impl Store {
         tx.commit().await
     }
 
-    pub async fn save_checkpoint(&self, id: &str, checkpoint: &str) -> Result<(), sqlx::Error> {
+    pub(super) async fn save_checkpoint(
+        &self,
+        id: &str,
+        checkpoint: &str,
+    ) -> Result<(), sqlx::Error> {
         sqlx::query("UPDATE jobs SET checkpoint = ? WHERE id = ?")
             .bind(checkpoint)
             .bind(id)
@@ -310,7 +272,7 @@ impl Store {
     /// Stores the result, its files and the `done` event and marks the job
     /// succeeded, all at once. `None` (nothing stored) when the job had
     /// already ended (cancelled).
-    pub async fn finish(
+    pub(super) async fn finish(
         &self,
         id: &str,
         result: &str,
@@ -346,7 +308,7 @@ impl Store {
         Ok(Some(stored))
     }
 
-    pub async fn iterations(
+    pub(super) async fn iterations(
         &self,
         id: &str,
         after: i64,
@@ -363,7 +325,7 @@ impl Store {
         .await
     }
 
-    pub async fn result(&self, id: &str) -> Result<Option<String>, sqlx::Error> {
+    pub(super) async fn result(&self, id: &str) -> Result<Option<String>, sqlx::Error> {
         sqlx::query_scalar("SELECT result FROM jobs WHERE id = ?")
             .bind(id)
             .fetch_optional(&self.pool)
@@ -371,7 +333,7 @@ impl Store {
             .map(Option::flatten)
     }
 
-    pub async fn file(
+    pub(super) async fn file(
         &self,
         id: &str,
         name: &str,
@@ -383,7 +345,7 @@ impl Store {
             .await
     }
 
-    pub async fn delete(&self, id: &str) -> Result<(), sqlx::Error> {
+    pub(super) async fn delete(&self, id: &str) -> Result<(), sqlx::Error> {
         sqlx::query("DELETE FROM jobs WHERE id = ?")
             .bind(id)
             .execute(&self.pool)
