@@ -224,16 +224,21 @@ pub async fn get(
     Path(id): Path<String>,
 ) -> Result<Response, Problem> {
     let row = owned(&state, &owner, &id).await?;
-    let mut view = serde_json::to_value(JobView::new(&row)).map_err(Problem::internal)?;
-    // The one job also answers what was asked: the request as submitted and
-    // the search's budget in evaluations (progress against it).
+    Ok(axum::Json(detail(&row)?).into_response())
+}
+
+/// One job as GET /v1/jobs/{id} and its cancel answer it: the job resource
+/// and what was asked, the request as submitted and the search's budget in
+/// evaluations (progress against it).
+fn detail(row: &JobRow) -> Result<Value, Problem> {
+    let mut view = serde_json::to_value(JobView::new(row)).map_err(Problem::internal)?;
     if let Ok(request) = serde_json::from_str::<JobRequest>(&row.request) {
         let fidelity = request.options.fidelity.unwrap_or_default();
         view["search_budget"] = json!(request.options.budget.unwrap_or(fidelity.budget()));
         let stored = serde_json::to_value(&request).map_err(Problem::internal)?;
         view["request"] = without_nulls(stored);
     }
-    Ok(axum::Json(view).into_response())
+    Ok(view)
 }
 
 /// `value` with every null member left out: the API takes an absent field
@@ -272,15 +277,7 @@ pub async fn cancel(
         tracing::info!(job = %id, "job cancelled");
     }
     let row = owned(&state, &owner, &id).await?;
-    let mut view = serde_json::to_value(JobView::new(&row)).map_err(Problem::internal)?;
-    // The one job also answers what was asked: the request as submitted and
-    // the search's budget in evaluations (progress against it).
-    if let Ok(request) = serde_json::from_str::<JobRequest>(&row.request) {
-        let fidelity = request.options.fidelity.unwrap_or_default();
-        view["search_budget"] = json!(request.options.budget.unwrap_or(fidelity.budget()));
-        view["request"] = serde_json::to_value(&request).map_err(Problem::internal)?;
-    }
-    Ok(axum::Json(view).into_response())
+    Ok(axum::Json(detail(&row)?).into_response())
 }
 
 pub async fn delete(

@@ -111,16 +111,26 @@ async fn simulate_answers_the_inflated_surface_when_asked() {
 async fn a_job_answers_its_request_and_budget() {
     let server = Server::start();
     let api = server.api();
-    let mut asked = quick_job(7);
-    asked["tuning"] = json!({"gentle_bends": false});
+    // A job that runs for seconds: it is still running when cancelled below.
+    let mut asked = long_job(400);
+    asked["tuning"]["gentle_bends"] = json!(false);
     let id = api.submit(&asked).await;
     let job = api.job(&id).await;
     assert_schema("Job", &job);
-    assert_eq!(job["search_budget"], 7);
+    assert_eq!(job["search_budget"], 400);
     assert_eq!(job["request"]["curve"], asked["curve"]);
     // The request answered is one the server takes again (no nulls).
     assert_eq!(job["request"]["tuning"], asked["tuning"]);
     assert_eq!(api.post("/v1/jobs", &job["request"]).await.status(), 202);
+    // Cancel answers the same resource.
+    let cancelled: Value = api
+        .post(&format!("/v1/jobs/{id}/cancel"), &json!({}))
+        .await
+        .json()
+        .await
+        .unwrap();
+    assert_schema("Job", &cancelled);
+    assert_eq!(cancelled["request"]["tuning"], asked["tuning"]);
     let plain = json!({"curve": {"preset": "arc"}, "options": {"fidelity": "draft"}});
     let id = api.submit(&plain).await;
     let job = api.job(&id).await;
