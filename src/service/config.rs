@@ -23,11 +23,13 @@ pub struct ServeArgs {
     /// (migrated at start; the database must exist).
     #[arg(long, default_value = "./patchwork.db")]
     pub db: String,
-    /// Design jobs computed at once (default: one per core).
+    /// Design jobs computed at once (default: one per core); 0 makes an
+    /// API-only node of a PostgreSQL database that other nodes work on.
     #[arg(long)]
     pub workers: Option<usize>,
     /// TOML file with `api_keys`, `cors_origins`, `queue_capacity`,
-    /// `job_time_limit_s`, `simulate_time_limit_s`, `body_limit_bytes`.
+    /// `job_time_limit_s`, `simulate_time_limit_s`, `body_limit_bytes`,
+    /// `lease_s` (how long a running job's hold lasts unrenewed; default 10).
     #[arg(long)]
     pub config: Option<PathBuf>,
     /// Queued jobs accepted before POST /v1/jobs answers 503.
@@ -49,6 +51,7 @@ struct ConfigFile {
     job_time_limit_s: Option<u64>,
     simulate_time_limit_s: Option<u64>,
     body_limit_bytes: Option<usize>,
+    lease_s: Option<u64>,
 }
 
 /// Resolved settings.
@@ -57,6 +60,11 @@ pub struct Config {
     pub addr: SocketAddr,
     pub db: Database,
     pub workers: usize,
+    /// This process among the nodes sharing a database (host and process id).
+    pub node: String,
+    /// How long a worker's hold on a running job lasts unrenewed: a job whose
+    /// node died is claimed again this long after its last renewal.
+    pub lease: Duration,
     /// Owners (key digests) allowed; empty = no authentication.
     pub owners: Vec<String>,
     pub cors_origins: Vec<String>,
@@ -88,13 +96,19 @@ impl Config {
         };
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
         let workers = args.workers.or(file.workers).unwrap_or(cores);
-        anyhow::ensure!(workers >= 1, "--workers must be at least 1");
+        let db = Database::parse(&args.db);
+        anyhow::ensure!(
+            workers >= 1 || matches!(db, Database::Postgres(_)),
+            "--workers 0 (an API-only node) needs a PostgreSQL --db that nodes with workers share"
+        );
         let queue_capacity = args.queue_capacity.or(file.queue_capacity).unwrap_or(64);
         anyhow::ensure!(queue_capacity >= 1, "--queue-capacity must be at least 1");
         Ok(Config {
             addr: args.addr,
-            db: Database::parse(&args.db),
+            db,
             workers,
+            node: node_name(),
+            lease: Duration::from_secs(file.lease_s.unwrap_or(10).max(1)),
             owners: keys.iter().map(|k| owner_of(k)).collect(),
             cors_origins: file.cors_origins.unwrap_or_default(),
             queue_capacity,
@@ -111,6 +125,17 @@ impl Config {
     pub fn auth_enabled(&self) -> bool {
         !self.owners.is_empty()
     }
+}
+
+/// The host's name and this process's id.
+fn node_name() -> String {
+    let host = std::fs::read_to_string("/etc/hostname")
+        .ok()
+        .map(|h| h.trim().to_string())
+        .filter(|h| !h.is_empty())
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .unwrap_or_else(|| "node".to_string());
+    format!("{host}-{}", std::process::id())
 }
 
 /// A key's owner id: its SHA-256, hex (keys themselves are never stored).

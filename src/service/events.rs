@@ -73,7 +73,13 @@ pub async fn stream(
                 break;
             };
             match receiver.recv().await {
-                Ok(event) => backlog.push(event),
+                // The next event: send it. One further on (an announcement
+                // from another node was lost): catch up from the store.
+                Ok(event) if event.seq <= last + 1 => backlog.push(event),
+                Ok(_) => match state.store.events_after(&id, last).await {
+                    Ok(events) => backlog = events,
+                    Err(e) => { tracing::error!(job = %id, "events: {e}"); break; }
+                },
                 // Fell behind, or the job ended: catch up from the store.
                 Err(error) => {
                     if matches!(error, RecvError::Closed) {

@@ -148,7 +148,7 @@ pub async fn create(
         }
     };
     state
-        .emit(&row.id, "stage", &json!({"stage": "queued"}))
+        .emit(&row.id, "stage", &json!({"stage": "queued"}), None)
         .await?;
     tracing::info!(job = %row.id, "job queued");
     state.wake.notify_one();
@@ -270,7 +270,7 @@ pub async fn cancel(
         ));
     }
     let event = json!({"reason": "cancelled by request"});
-    if row.status != "cancelled" && state.end_job(&id, "cancelled", None, &event).await? {
+    if row.status != "cancelled" && state.end_job(&id, "cancelled", None, &event, None).await? {
         if let Some(control) = state.control(&id) {
             control.stop(StopReason::Cancelled);
         }

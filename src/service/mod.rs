@@ -10,6 +10,7 @@ mod jobs;
 mod ops;
 mod problem;
 mod quick;
+mod relay;
 pub(crate) mod request;
 mod routes;
 mod state;
@@ -60,7 +61,7 @@ async fn serve(config: Config) -> Result<()> {
     let store = Store::open(&config.db)
         .await
         .with_context(|| format!("opening the database {}", config.db))?;
-    let requeued = store.requeue_running().await?;
+    let requeued = store.requeue_orphans().await?;
     if requeued > 0 {
         tracing::info!(
             jobs = requeued,
@@ -83,6 +84,7 @@ async fn serve(config: Config) -> Result<()> {
     });
     let app = app(state.clone());
     let workers = worker::start(&state);
+    let _relay = relay::start(&state);
     // Scripts (and the tests) read the address from the first line of stdout.
     println!("listening on http://{addr}");
     tracing::info!(%addr, workers = state.config.workers, auth = state.config.auth_enabled(), "serving");

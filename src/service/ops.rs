@@ -72,9 +72,40 @@ pub async fn metrics(State(state): State<AppState>) -> Result<Response, Problem>
     metric(
         "patchwork_workers",
         "gauge",
-        "Design workers.",
+        "Design workers of this node.",
         vec![(String::new(), state.config.workers as f64)],
     );
+    let running_here = state.running.lock().map_or(0, |r| r.len());
+    metric(
+        "patchwork_node_running_jobs",
+        "gauge",
+        "Jobs this node's workers are running.",
+        vec![(String::new(), running_here as f64)],
+    );
+    for (name, help, counter) in [
+        (
+            "patchwork_claims_total",
+            "Jobs this node's workers claimed (a resumed job counts again).",
+            &c.claims,
+        ),
+        (
+            "patchwork_takeovers_total",
+            "Claims of jobs whose previous holder's lease had run out (its node died).",
+            &c.takeovers,
+        ),
+        (
+            "patchwork_leases_lost_total",
+            "Runs this node stopped because another worker had claimed the job.",
+            &c.leases_lost,
+        ),
+    ] {
+        metric(
+            name,
+            "counter",
+            help,
+            vec![(String::new(), counter.load(Ordering::Relaxed) as f64)],
+        );
+    }
     metric(
         "patchwork_evaluations_total",
         "counter",

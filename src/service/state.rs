@@ -37,6 +37,9 @@ pub enum StopReason {
     /// The server is shutting down: the job goes back to the queue and
     /// resumes from its checkpoint at the next start.
     Shutdown,
+    /// Another worker claimed the job (this one's lease ran out): stop
+    /// without writing.
+    LeaseLost,
 }
 
 /// The handle on one running job.
@@ -86,6 +89,12 @@ impl Hub {
         }
     }
 
+    /// Whether anyone here listens to the job's events.
+    pub fn watched(&self, job: &str) -> bool {
+        let channels = self.channels.lock().unwrap_or_else(|p| p.into_inner());
+        channels.contains_key(job)
+    }
+
     /// Sends an event to the job's listeners. After a final event the channel
     /// is dropped: listeners still receive what was sent, then `Closed`.
     pub fn publish(&self, job: &str, event: StoredEvent) {
@@ -111,6 +120,9 @@ pub struct Counters {
     /// Design job runs in this process (a resumed job counts again).
     pub jobs: Timings,
     pub forward_solves: AtomicU64,
+    pub claims: AtomicU64,
+    pub takeovers: AtomicU64,
+    pub leases_lost: AtomicU64,
 }
 
 /// How many times something ran and its total wall time: a Prometheus summary
@@ -138,18 +150,22 @@ impl Timings {
 }
 
 impl Shared {
-    /// Appends an event to the store and publishes it live.
+    /// Appends an event to the store and publishes it live; with `fence`
+    /// (a worker's attempt) only while the job is that attempt's.
     pub async fn emit(
         &self,
         job: &str,
         kind: &str,
         data: &serde_json::Value,
+        fence: Option<i64>,
     ) -> Result<(), sqlx::Error> {
-        let event = self
+        let stored = self
             .store
-            .append_event(job, kind, &data.to_string())
+            .append_event(job, kind, &data.to_string(), fence)
             .await?;
-        self.hub.publish(job, event);
+        if let Some(event) = stored {
+            self.hub.publish(job, event);
+        }
         Ok(())
     }
 
@@ -161,6 +177,7 @@ impl Shared {
         status: &str,
         error: Option<&str>,
         data: &serde_json::Value,
+        fence: Option<i64>,
     ) -> Result<bool, sqlx::Error> {
         let kind = if status == "cancelled" {
             "cancelled"
@@ -169,7 +186,7 @@ impl Shared {
         };
         let stored = self
             .store
-            .end(job, status, error, (kind, &data.to_string()))
+            .end(job, status, error, (kind, &data.to_string()), fence)
             .await?;
         Ok(match stored {
             Some(event) => {

@@ -19,13 +19,14 @@ use tracing::Instrument;
 
 use super::request::JobRequest;
 use super::state::{AppState, JobControl, StopReason};
-use super::store::{Iteration, JobRow};
+use super::store::{Claim, Iteration, Lease, Renewal};
 use patchwork_core::fabrication::design_files;
 
 /// What the blocking pipeline tells the async side, in order.
 enum Message {
     Progress(DesignProgress),
-    Checkpoint(String),
+    /// A checkpoint, as JSON, and the evaluations it was taken after.
+    Checkpoint(String, usize),
     /// The reach report, as JSON.
     Reach(serde_json::Value),
 }
@@ -41,7 +42,9 @@ impl Observer for ChannelObserver {
 
     fn checkpoint(&mut self, checkpoint: &DesignCheckpoint) {
         if let Ok(text) = serde_json::to_string(checkpoint) {
-            let _ = self.0.send(Message::Checkpoint(text));
+            let _ = self
+                .0
+                .send(Message::Checkpoint(text, checkpoint.evaluations));
         }
     }
 
@@ -66,10 +69,19 @@ async fn worker(state: AppState, n: usize) {
         if state.shutting_down.load(Ordering::Relaxed) {
             return;
         }
-        match state.store.claim_next().await {
-            Ok(Some((job, checkpoint))) => {
-                let span = tracing::info_span!("job", id = %job.id, worker = n);
-                run_job(&state, job, checkpoint).instrument(span).await;
+        match state
+            .store
+            .claim_next(&state.config.node, state.config.lease)
+            .await
+        {
+            Ok(Some(claim)) => {
+                state.counters.claims.fetch_add(1, Ordering::Relaxed);
+                if claim.taken_over {
+                    state.counters.takeovers.fetch_add(1, Ordering::Relaxed);
+                }
+                let span = tracing::info_span!("job", id = %claim.job.id, worker = n,
+                    attempt = claim.lease.attempt);
+                run_job(&state, claim).instrument(span).await;
             }
             Ok(None) => {
                 // Sleep until a job is queued; poll now and then regardless.
@@ -83,15 +95,21 @@ async fn worker(state: AppState, n: usize) {
     }
 }
 
-async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
+async fn run_job(state: &AppState, claim: Claim) {
+    let Claim {
+        job,
+        checkpoint,
+        lease,
+        ..
+    } = claim;
     let id = job.id.clone();
     let request: JobRequest = match serde_json::from_str(&job.request) {
         Ok(r) => r,
-        Err(e) => return fail(state, &id, &format!("stored request unreadable: {e}")).await,
+        Err(e) => return fail(state, &lease, &format!("stored request unreadable: {e}")).await,
     };
     let prepared = match request.prepare() {
         Ok(p) => p,
-        Err(p) => return fail(state, &id, &p.detail).await,
+        Err(p) => return fail(state, &lease, &p.detail).await,
     };
     let resume: Option<DesignCheckpoint> =
         checkpoint.and_then(|c| match serde_json::from_str(&c) {
@@ -123,6 +141,7 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
             control.stop(StopReason::TimeLimit);
         })
     };
+    let renewals = tokio::spawn(hold(state.clone(), lease.clone(), control.clone()));
     let (tx, mut rx) = mpsc::unbounded_channel();
     let seed = prepared.plan.settings().seed;
     let span = tracing::Span::current();
@@ -146,12 +165,21 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
     // Evaluations already counted in /metrics (a resumed job's earlier ones were).
     let mut last_evaluations = resumed_evaluations;
     while let Some(message) = rx.recv().await {
-        if let Err(e) = record(state, &id, message, &mut last_stage, &mut last_evaluations).await {
+        if let Err(e) = record(
+            state,
+            &lease,
+            message,
+            &mut last_stage,
+            &mut last_evaluations,
+        )
+        .await
+        {
             tracing::error!("recording progress: {e}");
         }
     }
     let outcome = compute.await;
     timer.abort();
+    renewals.abort();
     if let Ok(mut running) = state.running.lock() {
         running.remove(&id);
     }
@@ -161,7 +189,9 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
             let report = DesignReport::new(&outcome, seed);
             let files = match design_files(&report) {
                 Ok(files) => files,
-                Err(e) => return fail(state, &id, &format!("writing the result files: {e}")).await,
+                Err(e) => {
+                    return fail(state, &lease, &format!("writing the result files: {e}")).await;
+                }
             };
             let result = files
                 .iter()
@@ -178,7 +208,7 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
             });
             match state
                 .store
-                .finish(&id, &result, &files, &done.to_string())
+                .finish(&lease, &result, &files, &done.to_string())
                 .await
             {
                 Ok(Some(event)) => {
@@ -189,26 +219,31 @@ async fn run_job(state: &AppState, job: JobRow, checkpoint: Option<String>) {
                         "succeeded"
                     );
                 }
-                Ok(None) => tracing::info!("finished after it was cancelled; result dropped"),
+                Ok(None) => {
+                    tracing::info!("finished after it was cancelled or taken over; result dropped")
+                }
                 Err(e) => tracing::error!("storing the result: {e}"),
             }
         }
         Ok(Err(DesignRunError::Cancelled)) => match control.reason() {
             Some(StopReason::Shutdown) => {
                 // Back to the queue: the next start resumes from the checkpoint.
-                if let Err(e) = state.store.requeue(&id).await {
+                if let Err(e) = state.store.requeue(&lease).await {
                     tracing::error!("re-queueing: {e}");
                 }
                 tracing::info!("interrupted by shutdown; queued to resume");
             }
             Some(StopReason::TimeLimit) => {
                 let limit = state.config.job_time_limit.as_secs();
-                fail(state, &id, &format!("time limit of {limit} s exceeded")).await
+                fail(state, &lease, &format!("time limit of {limit} s exceeded")).await
+            }
+            Some(StopReason::LeaseLost) => {
+                tracing::warn!("lease lost: another worker holds the job; stopped without writing")
             }
             _ => tracing::info!("stopped: cancelled"),
         },
-        Ok(Err(e)) => fail(state, &id, &e.to_string()).await,
-        Err(e) => fail(state, &id, &format!("internal error: {e}")).await,
+        Ok(Err(e)) => fail(state, &lease, &e.to_string()).await,
+        Err(e) => fail(state, &lease, &format!("internal error: {e}")).await,
     }
 }
 
@@ -217,20 +252,48 @@ fn finite(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }
 
+/// Renews the job's lease while it runs, and stops the run when the job was
+/// cancelled (through any node) or claimed by another worker. Renewals come
+/// often enough (a tenth of the lease, at most a second apart) that a
+/// cancel on another node stops the run within about a second.
+async fn hold(state: AppState, lease: Lease, control: Arc<JobControl>) {
+    let every = (state.config.lease / 10).min(Duration::from_secs(1));
+    loop {
+        tokio::time::sleep(every).await;
+        match state.store.renew(&lease, state.config.lease).await {
+            Ok(Renewal::Held) => {}
+            Ok(Renewal::Cancelled) => return control.stop(StopReason::Cancelled),
+            Ok(Renewal::Lost) => {
+                state.counters.leases_lost.fetch_add(1, Ordering::Relaxed);
+                return control.stop(StopReason::LeaseLost);
+            }
+            Err(e) => tracing::warn!("renewing the lease: {e}"),
+        }
+    }
+}
+
 async fn record(
     state: &AppState,
-    id: &str,
+    lease: &Lease,
     message: Message,
     last_stage: &mut Option<Stage>,
     last_evaluations: &mut usize,
 ) -> Result<(), sqlx::Error> {
+    let (id, fence) = (lease.id.as_str(), Some(lease.attempt));
     match message {
-        Message::Checkpoint(text) => state.store.save_checkpoint(id, &text).await,
-        Message::Reach(report) => state.emit(id, "reach", &report).await,
+        Message::Checkpoint(text, evaluations) => {
+            state
+                .store
+                .save_checkpoint(lease, &text, evaluations as i64)
+                .await
+        }
+        Message::Reach(report) => state.emit(id, "reach", &report, fence).await,
         Message::Progress(p) => {
             if *last_stage != Some(p.stage) {
                 *last_stage = Some(p.stage);
-                state.emit(id, "stage", &json!({"stage": p.stage})).await?;
+                state
+                    .emit(id, "stage", &json!({"stage": p.stage}), fence)
+                    .await?;
             }
             // A NaN objective (before the seed is evaluated) serialises as null.
             let progress = serde_json::to_value(p).unwrap_or_default();
@@ -248,20 +311,24 @@ async fn record(
             *last_evaluations = p.evaluations;
             state
                 .store
-                .record_progress(id, &progress.to_string(), iteration.as_ref())
+                .record_progress(lease, &progress.to_string(), iteration.as_ref())
                 .await?;
             if p.stage == Stage::Search {
-                state.emit(id, "progress", &progress).await?;
+                state.emit(id, "progress", &progress, fence).await?;
             }
             Ok(())
         }
     }
 }
 
-async fn fail(state: &AppState, id: &str, error: &str) {
+async fn fail(state: &AppState, lease: &Lease, error: &str) {
     tracing::warn!("failed: {error}");
     let event = json!({ "error": error });
-    if let Err(e) = state.end_job(id, "failed", Some(error), &event).await {
+    let fence = Some(lease.attempt);
+    if let Err(e) = state
+        .end_job(&lease.id, "failed", Some(error), &event, fence)
+        .await
+    {
         tracing::error!("marking failed: {e}");
     }
 }

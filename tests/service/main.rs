@@ -11,6 +11,7 @@ mod access;
 mod bad_input;
 mod browser;
 mod lifecycle;
+mod nodes;
 mod page_routes;
 mod recovery;
 mod schemathesis;

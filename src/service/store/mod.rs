@@ -10,6 +10,7 @@ mod sqlite;
 
 use std::fmt;
 use std::path::PathBuf;
+use std::time::Duration;
 
 use patchwork_core::fabrication::OutputFile;
 use serde::Serialize;
@@ -99,12 +100,80 @@ const JOB_COLUMNS: &str = "id, status, request, created_at, updated_at, progress
 
 /// Now, as fixed-width RFC 3339 UTC (sorts as text).
 pub fn now() -> String {
+    after(Duration::ZERO)
+}
+
+/// `delay` from now, as [`now`] writes times (a lease's end).
+pub fn after(delay: Duration) -> String {
     let format = time::macros::format_description!(
         "[year]-[month]-[day]T[hour]:[minute]:[second].[subsecond digits:6]Z"
     );
-    time::OffsetDateTime::now_utc()
+    (time::OffsetDateTime::now_utc() + delay)
         .format(&format)
         .unwrap_or_default()
+}
+
+/// A worker's hold on a running job: the job and the claim's attempt number.
+/// Every write of the worker names it, and is dropped when the job has been
+/// claimed again since (the lease ran out) or has ended.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Lease {
+    pub id: String,
+    pub attempt: i64,
+}
+
+/// A claimed job: the job, its last checkpoint, and the lease.
+#[derive(Debug, Clone)]
+pub struct Claim {
+    pub job: JobRow,
+    pub checkpoint: Option<String>,
+    pub lease: Lease,
+    /// The job was running under a lease that had run out (its node died).
+    pub taken_over: bool,
+}
+
+/// What renewing a lease found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Renewal {
+    /// Renewed: the job is still this worker's.
+    Held,
+    /// The job was cancelled (on any node): stop.
+    Cancelled,
+    /// Another worker claimed the job, or it ended: stop writing.
+    Lost,
+}
+
+/// A claim from the row `claim_next` returns (the job's columns,
+/// `checkpoint` and `attempt`).
+fn claim_of<R: sqlx::Row>(row: &R) -> Result<Claim, sqlx::Error>
+where
+    JobRow: for<'r> FromRow<'r, R>,
+    for<'c> &'c str: sqlx::ColumnIndex<R>,
+    Option<String>: for<'r> sqlx::Decode<'r, R::Database> + sqlx::Type<R::Database>,
+    i64: for<'r> sqlx::Decode<'r, R::Database> + sqlx::Type<R::Database>,
+    bool: for<'r> sqlx::Decode<'r, R::Database> + sqlx::Type<R::Database>,
+{
+    let job = JobRow::from_row(row)?;
+    let lease = Lease {
+        id: job.id.clone(),
+        attempt: row.try_get("attempt")?,
+    };
+    Ok(Claim {
+        checkpoint: row.try_get("checkpoint")?,
+        taken_over: row.try_get("taken_over")?,
+        job,
+        lease,
+    })
+}
+
+/// What a failed renewal means, from the job's status and attempt now.
+fn renewal_of(now: Option<(String, i64)>, lease: &Lease) -> Renewal {
+    match now {
+        Some((status, attempt)) if status == "cancelled" && attempt == lease.attempt => {
+            Renewal::Cancelled
+        }
+        _ => Renewal::Lost,
+    }
 }
 
 /// The same call on whichever backend this store is.
@@ -123,6 +192,14 @@ impl Store {
             Database::Sqlite(path) => Store::Sqlite(SqliteStore::open(path).await?),
             Database::Postgres(url) => Store::Postgres(PgStore::open(url).await?),
         })
+    }
+
+    /// The PostgreSQL pool, for LISTEN (none on SQLite: one node).
+    pub fn postgres(&self) -> Option<&sqlx::PgPool> {
+        match self {
+            Store::Sqlite(_) => None,
+            Store::Postgres(s) => Some(s.pool()),
+        }
     }
 
     pub async fn ping(&self) -> bool {
@@ -172,43 +249,63 @@ impl Store {
         on_backend!(self, s => s.queued_count().await)
     }
 
-    /// Takes the oldest queued job and marks it running.
-    pub async fn claim_next(&self) -> Result<Option<(JobRow, Option<String>)>, sqlx::Error> {
-        on_backend!(self, s => s.claim_next().await)
+    /// Takes the oldest job that is queued, or running with a lease that ran
+    /// out (its node died), marks it running under a new lease of
+    /// `duration` held by `node`, and counts the attempt.
+    pub async fn claim_next(
+        &self,
+        node: &str,
+        duration: Duration,
+    ) -> Result<Option<Claim>, sqlx::Error> {
+        on_backend!(self, s => s.claim_next(node, duration).await)
     }
 
-    /// After a crash: jobs that were running are queued again (they resume
-    /// from their checkpoints). Returns how many.
-    pub async fn requeue_running(&self) -> Result<u64, sqlx::Error> {
-        on_backend!(self, s => s.requeue_running().await)
+    /// Extends the lease by `duration` if the job is still this lease's.
+    pub async fn renew(&self, lease: &Lease, duration: Duration) -> Result<Renewal, sqlx::Error> {
+        on_backend!(self, s => s.renew(lease, duration).await)
+    }
+
+    /// At start-up of the one node of a SQLite file: jobs left running (the
+    /// process was killed) are queued again at once, to resume from their
+    /// checkpoints. PostgreSQL's nodes wait for such leases to run out
+    /// instead (another node may hold them). Returns how many.
+    pub async fn requeue_orphans(&self) -> Result<u64, sqlx::Error> {
+        match self {
+            Store::Sqlite(s) => s.requeue_running().await,
+            Store::Postgres(_) => Ok(0),
+        }
     }
 
     /// Puts a running job back in the queue (shutdown); its checkpoint stays.
-    pub async fn requeue(&self, id: &str) -> Result<(), sqlx::Error> {
-        on_backend!(self, s => s.requeue(id).await)
+    pub async fn requeue(&self, lease: &Lease) -> Result<(), sqlx::Error> {
+        on_backend!(self, s => s.requeue(lease).await)
     }
 
     /// Ends a job that has not ended — `failed` or `cancelled` — and stores its
     /// final event in the same transaction, so an ended job always has its
-    /// final event. `None` when the job had already ended.
+    /// final event. `None` when the job had already ended, or `fence` (a
+    /// worker's attempt) is no longer the job's.
     pub async fn end(
         &self,
         id: &str,
         status: &str,
         error: Option<&str>,
         event: (&str, &str),
+        fence: Option<i64>,
     ) -> Result<Option<StoredEvent>, sqlx::Error> {
-        on_backend!(self, s => s.end(id, status, error, event).await)
+        on_backend!(self, s => s.end(id, status, error, event, fence).await)
     }
 
-    /// Appends an event with the job's next id.
+    /// Appends an event with the job's next id; with `fence` (a worker's
+    /// attempt) only while the job is running under that attempt.
     pub async fn append_event(
         &self,
         id: &str,
         kind: &str,
         data: &str,
-    ) -> Result<StoredEvent, sqlx::Error> {
-        on_backend!(self, s => s.append_event(id, kind, data).await)
+        fence: Option<i64>,
+    ) -> Result<Option<StoredEvent>, sqlx::Error> {
+        on_backend!(self, s => s.append_event(id, kind, data, fence).await)
     }
 
     pub async fn events_after(
@@ -222,15 +319,22 @@ impl Store {
     /// The latest progress, and the generation's row when it is one.
     pub async fn record_progress(
         &self,
-        id: &str,
+        lease: &Lease,
         progress: &str,
         iteration: Option<&Iteration>,
     ) -> Result<(), sqlx::Error> {
-        on_backend!(self, s => s.record_progress(id, progress, iteration).await)
+        on_backend!(self, s => s.record_progress(lease, progress, iteration).await)
     }
 
-    pub async fn save_checkpoint(&self, id: &str, checkpoint: &str) -> Result<(), sqlx::Error> {
-        on_backend!(self, s => s.save_checkpoint(id, checkpoint).await)
+    /// Keeps `checkpoint`, taken after `evaluations`, unless the job holds a
+    /// later one: a checkpoint never goes back.
+    pub async fn save_checkpoint(
+        &self,
+        lease: &Lease,
+        checkpoint: &str,
+        evaluations: i64,
+    ) -> Result<(), sqlx::Error> {
+        on_backend!(self, s => s.save_checkpoint(lease, checkpoint, evaluations).await)
     }
 
     /// Stores the result, its files and the `done` event and marks the job
@@ -238,12 +342,12 @@ impl Store {
     /// already ended (cancelled).
     pub async fn finish(
         &self,
-        id: &str,
+        lease: &Lease,
         result: &str,
         files: &[OutputFile],
         done: &str,
     ) -> Result<Option<StoredEvent>, sqlx::Error> {
-        on_backend!(self, s => s.finish(id, result, files, done).await)
+        on_backend!(self, s => s.finish(lease, result, files, done).await)
     }
 
     pub async fn iterations(

@@ -6,11 +6,12 @@
 
 use std::time::Duration;
 
+use super::{
+    Claim, Iteration, JOB_COLUMNS, JobRow, Lease, Renewal, StoredEvent, after, claim_of, now,
+    renewal_of,
+};
 use patchwork_core::fabrication::OutputFile;
 use sqlx::postgres::{PgConnection, PgPool, PgPoolOptions};
-use sqlx::{FromRow, Row};
-
-use super::{Iteration, JOB_COLUMNS, JobRow, StoredEvent, now};
 
 #[derive(Clone)]
 pub struct PgStore {
@@ -26,6 +27,10 @@ impl PgStore {
             .await?;
         sqlx::migrate!("./migrations/postgres").run(&pool).await?;
         Ok(PgStore { pool })
+    }
+
+    pub(super) fn pool(&self) -> &PgPool {
+        &self.pool
     }
 
     pub(super) async fn ping(&self) -> bool {
@@ -118,41 +123,63 @@ impl PgStore {
             .await
     }
 
-    pub(super) async fn claim_next(&self) -> Result<Option<(JobRow, Option<String>)>, sqlx::Error> {
+    pub(super) async fn claim_next(
+        &self,
+        node: &str,
+        duration: Duration,
+    ) -> Result<Option<Claim>, sqlx::Error> {
         let sql = format!(
-            "UPDATE jobs SET status = 'running', updated_at = $1
-             WHERE id = (SELECT id FROM jobs WHERE status = 'queued'
+            "UPDATE jobs SET status = 'running', attempt = attempt + 1,
+                    taken_over = (status = 'running'), lease_until = $2,
+                    node = $3, updated_at = $1
+             WHERE id = (SELECT id FROM jobs
+                         WHERE status = 'queued'
+                            OR (status = 'running' AND (lease_until IS NULL OR lease_until < $1))
                          ORDER BY id LIMIT 1 FOR UPDATE SKIP LOCKED)
-             RETURNING {JOB_COLUMNS}, checkpoint"
+             RETURNING {JOB_COLUMNS}, checkpoint, attempt, taken_over"
         );
         let row = sqlx::query(&sql)
             .bind(now())
+            .bind(after(duration))
+            .bind(node)
             .fetch_optional(&self.pool)
             .await?;
-        row.map(|row| {
-            let checkpoint: Option<String> = row.get("checkpoint");
-            JobRow::from_row(&row).map(|job| (job, checkpoint))
-        })
-        .transpose()
+        row.map(|row| claim_of(&row)).transpose()
     }
 
-    pub(super) async fn requeue_running(&self) -> Result<u64, sqlx::Error> {
-        Ok(sqlx::query(
-            "UPDATE jobs SET status = 'queued', updated_at = $1 WHERE status = 'running'",
+    pub(super) async fn renew(
+        &self,
+        lease: &Lease,
+        duration: Duration,
+    ) -> Result<Renewal, sqlx::Error> {
+        let renewed = sqlx::query(
+            "UPDATE jobs SET lease_until = $1
+             WHERE id = $2 AND attempt = $3 AND status = 'running'",
         )
-        .bind(now())
+        .bind(after(duration))
+        .bind(&lease.id)
+        .bind(lease.attempt)
         .execute(&self.pool)
-        .await?
-        .rows_affected())
+        .await?;
+        if renewed.rows_affected() == 1 {
+            return Ok(Renewal::Held);
+        }
+        let now: Option<(String, i64)> =
+            sqlx::query_as("SELECT status, attempt FROM jobs WHERE id = $1")
+                .bind(&lease.id)
+                .fetch_optional(&self.pool)
+                .await?;
+        Ok(renewal_of(now, lease))
     }
 
-    pub(super) async fn requeue(&self, id: &str) -> Result<(), sqlx::Error> {
+    pub(super) async fn requeue(&self, lease: &Lease) -> Result<(), sqlx::Error> {
         sqlx::query(
-            "UPDATE jobs SET status = 'queued', updated_at = $1
-             WHERE id = $2 AND status = 'running'",
+            "UPDATE jobs SET status = 'queued', lease_until = NULL, updated_at = $1
+             WHERE id = $2 AND attempt = $3 AND status = 'running'",
         )
         .bind(now())
-        .bind(id)
+        .bind(&lease.id)
+        .bind(lease.attempt)
         .execute(&self.pool)
         .await
         .map(|_| ())
@@ -164,24 +191,27 @@ impl PgStore {
         status: &str,
         error: Option<&str>,
         event: (&str, &str),
+        fence: Option<i64>,
     ) -> Result<Option<StoredEvent>, sqlx::Error> {
         let mut tx = self.pool.begin().await?;
         let updated = sqlx::query(
-            "UPDATE jobs SET status = $1, error = $2, updated_at = $3
-             WHERE id = $4 AND status NOT IN ('succeeded', 'failed', 'cancelled')",
+            "UPDATE jobs SET status = $1, error = $2, lease_until = NULL, updated_at = $3
+             WHERE id = $4 AND status NOT IN ('succeeded', 'failed', 'cancelled')
+               AND ($5::bigint IS NULL OR attempt = $5)",
         )
         .bind(status)
         .bind(error)
         .bind(now())
         .bind(id)
+        .bind(fence)
         .execute(&mut *tx)
         .await?;
         if updated.rows_affected() != 1 {
             return Ok(None);
         }
-        let stored = insert_event(&mut tx, id, event).await?;
+        let stored = insert_event(&mut tx, id, event, None).await?;
         tx.commit().await?;
-        Ok(Some(stored))
+        Ok(stored)
     }
 
     pub(super) async fn append_event(
@@ -189,9 +219,10 @@ impl PgStore {
         id: &str,
         kind: &str,
         data: &str,
-    ) -> Result<StoredEvent, sqlx::Error> {
+        fence: Option<i64>,
+    ) -> Result<Option<StoredEvent>, sqlx::Error> {
         let mut tx = self.pool.begin().await?;
-        let stored = insert_event(&mut tx, id, (kind, data)).await?;
+        let stored = insert_event(&mut tx, id, (kind, data), fence).await?;
         tx.commit().await?;
         Ok(stored)
     }
@@ -212,18 +243,23 @@ impl PgStore {
 
     pub(super) async fn record_progress(
         &self,
-        id: &str,
+        lease: &Lease,
         progress: &str,
         iteration: Option<&Iteration>,
     ) -> Result<(), sqlx::Error> {
         let mut tx = self.pool.begin().await?;
-        sqlx::query("UPDATE jobs SET progress = $1, updated_at = $2 WHERE id = $3")
-            .bind(progress)
-            .bind(now())
-            .bind(id)
-            .execute(&mut *tx)
-            .await?;
-        if let Some(it) = iteration {
+        let updated = sqlx::query(
+            "UPDATE jobs SET progress = $1, updated_at = $2
+             WHERE id = $3 AND attempt = $4 AND status = 'running'",
+        )
+        .bind(progress)
+        .bind(now())
+        .bind(&lease.id)
+        .bind(lease.attempt)
+        .execute(&mut *tx)
+        .await?;
+        let id = &lease.id;
+        if let Some(it) = iteration.filter(|_| updated.rows_affected() == 1) {
             sqlx::query(
                 "INSERT INTO iterations
                  (job_id, evaluations, generation, best_objective, sigma, elapsed_s)
@@ -246,32 +282,41 @@ impl PgStore {
 
     pub(super) async fn save_checkpoint(
         &self,
-        id: &str,
+        lease: &Lease,
         checkpoint: &str,
+        evaluations: i64,
     ) -> Result<(), sqlx::Error> {
-        sqlx::query("UPDATE jobs SET checkpoint = $1 WHERE id = $2")
-            .bind(checkpoint)
-            .bind(id)
-            .execute(&self.pool)
-            .await
-            .map(|_| ())
+        sqlx::query(
+            "UPDATE jobs SET checkpoint = $1, checkpoint_evaluations = $2
+             WHERE id = $3 AND attempt = $4 AND status = 'running'
+               AND checkpoint_evaluations <= $2",
+        )
+        .bind(checkpoint)
+        .bind(evaluations)
+        .bind(&lease.id)
+        .bind(lease.attempt)
+        .execute(&self.pool)
+        .await
+        .map(|_| ())
     }
 
     pub(super) async fn finish(
         &self,
-        id: &str,
+        lease: &Lease,
         result: &str,
         files: &[OutputFile],
         done: &str,
     ) -> Result<Option<StoredEvent>, sqlx::Error> {
+        let id = &lease.id;
         let mut tx = self.pool.begin().await?;
         let updated = sqlx::query(
-            "UPDATE jobs SET status = 'succeeded', result = $1, updated_at = $2
-             WHERE id = $3 AND status = 'running'",
+            "UPDATE jobs SET status = 'succeeded', result = $1, lease_until = NULL, updated_at = $2
+             WHERE id = $3 AND attempt = $4 AND status = 'running'",
         )
         .bind(result)
         .bind(now())
         .bind(id)
+        .bind(lease.attempt)
         .execute(&mut *tx)
         .await?;
         if updated.rows_affected() != 1 {
@@ -290,9 +335,9 @@ impl PgStore {
             .execute(&mut *tx)
             .await?;
         }
-        let stored = insert_event(&mut tx, id, ("done", done)).await?;
+        let stored = insert_event(&mut tx, id, ("done", done), None).await?;
         tx.commit().await?;
-        Ok(Some(stored))
+        Ok(stored)
     }
 
     pub(super) async fn iterations(
@@ -343,15 +388,18 @@ impl PgStore {
 
 /// Inserts an event with the job's next id, taken from the counter on the
 /// job's row (whose row lock orders concurrent writers) in the caller's
-/// transaction.
+/// transaction; with `fence`, only while the job runs under that attempt.
 async fn insert_event(
     connection: &mut PgConnection,
     id: &str,
     (kind, data): (&str, &str),
-) -> Result<StoredEvent, sqlx::Error> {
+    fence: Option<i64>,
+) -> Result<Option<StoredEvent>, sqlx::Error> {
     sqlx::query_as(
         "WITH next AS (
-             UPDATE jobs SET last_seq = last_seq + 1 WHERE id = $1 RETURNING last_seq)
+             UPDATE jobs SET last_seq = last_seq + 1
+             WHERE id = $1 AND ($5::bigint IS NULL OR (attempt = $5 AND status = 'running'))
+             RETURNING last_seq)
          INSERT INTO events (job_id, seq, kind, data, created_at)
          SELECT $1, last_seq, $2, $3, $4 FROM next
          RETURNING seq, kind, data",
@@ -360,6 +408,7 @@ async fn insert_event(
     .bind(kind)
     .bind(data)
     .bind(now())
-    .fetch_one(connection)
+    .bind(fence)
+    .fetch_optional(connection)
     .await
 }

@@ -6,9 +6,12 @@ use std::time::Duration;
 
 use patchwork_core::fabrication::OutputFile;
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
-use sqlx::{FromRow, SqliteConnection, SqlitePool};
+use sqlx::{SqliteConnection, SqlitePool};
 
-use super::{Iteration, JOB_COLUMNS, JobRow, StoredEvent, now};
+use super::{
+    Claim, Iteration, JOB_COLUMNS, JobRow, Lease, Renewal, StoredEvent, after, claim_of, now,
+    renewal_of,
+};
 
 #[derive(Clone)]
 pub struct SqliteStore {
@@ -125,25 +128,52 @@ impl SqliteStore {
             .await
     }
 
-    /// Takes the oldest queued job and marks it running.
-    pub(super) async fn claim_next(&self) -> Result<Option<(JobRow, Option<String>)>, sqlx::Error> {
+    pub(super) async fn claim_next(
+        &self,
+        node: &str,
+        duration: Duration,
+    ) -> Result<Option<Claim>, sqlx::Error> {
         let sql = format!(
-            "UPDATE jobs SET status = 'running', updated_at = ?
-             WHERE id = (SELECT id FROM jobs WHERE status = 'queued' ORDER BY id LIMIT 1)
-               AND status = 'queued'
-             RETURNING {JOB_COLUMNS}, checkpoint"
+            "UPDATE jobs SET status = 'running', attempt = attempt + 1,
+                    taken_over = (status = 'running'), lease_until = ?2,
+                    node = ?3, updated_at = ?1
+             WHERE id = (SELECT id FROM jobs
+                         WHERE status = 'queued'
+                            OR (status = 'running' AND (lease_until IS NULL OR lease_until < ?1))
+                         ORDER BY id LIMIT 1)
+             RETURNING {JOB_COLUMNS}, checkpoint, attempt, taken_over"
         );
-        let row: Option<(JobRow, Option<String>)> = sqlx::query(&sql)
+        let row = sqlx::query(&sql)
             .bind(now())
+            .bind(after(duration))
+            .bind(node)
             .fetch_optional(&self.pool)
-            .await?
-            .map(|row| {
-                use sqlx::Row;
-                let checkpoint: Option<String> = row.get("checkpoint");
-                JobRow::from_row(&row).map(|job| (job, checkpoint))
-            })
-            .transpose()?;
-        Ok(row)
+            .await?;
+        row.map(|row| claim_of(&row)).transpose()
+    }
+
+    pub(super) async fn renew(
+        &self,
+        lease: &Lease,
+        duration: Duration,
+    ) -> Result<Renewal, sqlx::Error> {
+        let renewed = sqlx::query(
+            "UPDATE jobs SET lease_until = ? WHERE id = ? AND attempt = ? AND status = 'running'",
+        )
+        .bind(after(duration))
+        .bind(&lease.id)
+        .bind(lease.attempt)
+        .execute(&self.pool)
+        .await?;
+        if renewed.rows_affected() == 1 {
+            return Ok(Renewal::Held);
+        }
+        let now: Option<(String, i64)> =
+            sqlx::query_as("SELECT status, attempt FROM jobs WHERE id = ?")
+                .bind(&lease.id)
+                .fetch_optional(&self.pool)
+                .await?;
+        Ok(renewal_of(now, lease))
     }
 
     /// After a crash: jobs that were running are queued again (they resume
@@ -159,12 +189,14 @@ impl SqliteStore {
     }
 
     /// Puts a running job back in the queue (shutdown); its checkpoint stays.
-    pub(super) async fn requeue(&self, id: &str) -> Result<(), sqlx::Error> {
+    pub(super) async fn requeue(&self, lease: &Lease) -> Result<(), sqlx::Error> {
         sqlx::query(
-            "UPDATE jobs SET status = 'queued', updated_at = ? WHERE id = ? AND status = 'running'",
+            "UPDATE jobs SET status = 'queued', lease_until = NULL, updated_at = ?
+             WHERE id = ? AND attempt = ? AND status = 'running'",
         )
         .bind(now())
-        .bind(id)
+        .bind(&lease.id)
+        .bind(lease.attempt)
         .execute(&self.pool)
         .await
         .map(|_| ())
@@ -179,24 +211,28 @@ impl SqliteStore {
         status: &str,
         error: Option<&str>,
         event: (&str, &str),
+        fence: Option<i64>,
     ) -> Result<Option<StoredEvent>, sqlx::Error> {
         let mut tx = self.pool.begin().await?;
         let updated = sqlx::query(
-            "UPDATE jobs SET status = ?, error = ?, updated_at = ?
-             WHERE id = ? AND status NOT IN ('succeeded', 'failed', 'cancelled')",
+            "UPDATE jobs SET status = ?, error = ?, lease_until = NULL, updated_at = ?
+             WHERE id = ? AND status NOT IN ('succeeded', 'failed', 'cancelled')
+               AND (? IS NULL OR attempt = ?)",
         )
         .bind(status)
         .bind(error)
         .bind(now())
         .bind(id)
+        .bind(fence)
+        .bind(fence)
         .execute(&mut *tx)
         .await?;
         if updated.rows_affected() != 1 {
             return Ok(None);
         }
-        let stored = insert_event(&mut tx, id, event).await?;
+        let stored = insert_event(&mut tx, id, event, None).await?;
         tx.commit().await?;
-        Ok(Some(stored))
+        Ok(stored)
     }
 
     /// Appends an event with the job's next id.
@@ -205,9 +241,10 @@ impl SqliteStore {
         id: &str,
         kind: &str,
         data: &str,
-    ) -> Result<StoredEvent, sqlx::Error> {
+        fence: Option<i64>,
+    ) -> Result<Option<StoredEvent>, sqlx::Error> {
         let mut connection = self.pool.acquire().await?;
-        insert_event(&mut connection, id, (kind, data)).await
+        insert_event(&mut connection, id, (kind, data), fence).await
     }
 
     pub(super) async fn events_after(
@@ -227,18 +264,23 @@ impl SqliteStore {
     /// The latest progress, and the generation's row when it is one.
     pub(super) async fn record_progress(
         &self,
-        id: &str,
+        lease: &Lease,
         progress: &str,
         iteration: Option<&Iteration>,
     ) -> Result<(), sqlx::Error> {
         let mut tx = self.pool.begin().await?;
-        sqlx::query("UPDATE jobs SET progress = ?, updated_at = ? WHERE id = ?")
-            .bind(progress)
-            .bind(now())
-            .bind(id)
-            .execute(&mut *tx)
-            .await?;
-        if let Some(it) = iteration {
+        let updated = sqlx::query(
+            "UPDATE jobs SET progress = ?, updated_at = ?
+             WHERE id = ? AND attempt = ? AND status = 'running'",
+        )
+        .bind(progress)
+        .bind(now())
+        .bind(&lease.id)
+        .bind(lease.attempt)
+        .execute(&mut *tx)
+        .await?;
+        let id = &lease.id;
+        if let Some(it) = iteration.filter(|_| updated.rows_affected() == 1) {
             sqlx::query(
                 "INSERT OR REPLACE INTO iterations
                  (job_id, evaluations, generation, best_objective, sigma, elapsed_s)
@@ -258,15 +300,23 @@ impl SqliteStore {
 
     pub(super) async fn save_checkpoint(
         &self,
-        id: &str,
+        lease: &Lease,
         checkpoint: &str,
+        evaluations: i64,
     ) -> Result<(), sqlx::Error> {
-        sqlx::query("UPDATE jobs SET checkpoint = ? WHERE id = ?")
-            .bind(checkpoint)
-            .bind(id)
-            .execute(&self.pool)
-            .await
-            .map(|_| ())
+        sqlx::query(
+            "UPDATE jobs SET checkpoint = ?, checkpoint_evaluations = ?
+             WHERE id = ? AND attempt = ? AND status = 'running'
+               AND checkpoint_evaluations <= ?",
+        )
+        .bind(checkpoint)
+        .bind(evaluations)
+        .bind(&lease.id)
+        .bind(lease.attempt)
+        .bind(evaluations)
+        .execute(&self.pool)
+        .await
+        .map(|_| ())
     }
 
     /// Stores the result, its files and the `done` event and marks the job
@@ -274,19 +324,21 @@ impl SqliteStore {
     /// already ended (cancelled).
     pub(super) async fn finish(
         &self,
-        id: &str,
+        lease: &Lease,
         result: &str,
         files: &[OutputFile],
         done: &str,
     ) -> Result<Option<StoredEvent>, sqlx::Error> {
+        let id = &lease.id;
         let mut tx = self.pool.begin().await?;
         let updated = sqlx::query(
-            "UPDATE jobs SET status = 'succeeded', result = ?, updated_at = ?
-             WHERE id = ? AND status = 'running'",
+            "UPDATE jobs SET status = 'succeeded', result = ?, lease_until = NULL, updated_at = ?
+             WHERE id = ? AND attempt = ? AND status = 'running'",
         )
         .bind(result)
         .bind(now())
         .bind(id)
+        .bind(lease.attempt)
         .execute(&mut *tx)
         .await?;
         if updated.rows_affected() != 1 {
@@ -303,9 +355,9 @@ impl SqliteStore {
             .execute(&mut *tx)
             .await?;
         }
-        let stored = insert_event(&mut tx, id, ("done", done)).await?;
+        let stored = insert_event(&mut tx, id, ("done", done), None).await?;
         tx.commit().await?;
-        Ok(Some(stored))
+        Ok(stored)
     }
 
     pub(super) async fn iterations(
@@ -355,21 +407,27 @@ impl SqliteStore {
 }
 
 /// Inserts an event with the job's next id (one statement, so two writers
-/// never take the same id).
+/// never take the same id); with `fence`, only while the job runs under
+/// that attempt.
 async fn insert_event(
     connection: &mut SqliteConnection,
     id: &str,
     (kind, data): (&str, &str),
-) -> Result<StoredEvent, sqlx::Error> {
+    fence: Option<i64>,
+) -> Result<Option<StoredEvent>, sqlx::Error> {
     sqlx::query_as(
         "INSERT INTO events (job_id, seq, kind, data, created_at)
-         SELECT ?1, COALESCE(MAX(seq), 0) + 1, ?2, ?3, ?4 FROM events WHERE job_id = ?1
+         SELECT ?1, next, ?2, ?3, ?4
+         FROM (SELECT COALESCE(MAX(seq), 0) + 1 AS next FROM events WHERE job_id = ?1)
+         WHERE ?5 IS NULL
+            OR EXISTS (SELECT 1 FROM jobs WHERE id = ?1 AND attempt = ?5 AND status = 'running')
          RETURNING seq, kind, data",
     )
     .bind(id)
     .bind(kind)
     .bind(data)
     .bind(now())
-    .fetch_one(connection)
+    .bind(fence)
+    .fetch_optional(connection)
     .await
 }
