@@ -136,3 +136,48 @@ async fn events_and_cancels_cross_nodes() {
         .await;
     assert_eq!(job["status"], "succeeded");
 }
+
+/// An Idempotency-Key used through one node gives the same job through the
+/// other; a key's jobs stay its own on every node.
+#[tokio::test(flavor = "multi_thread")]
+async fn idempotency_and_keys_hold_across_nodes() {
+    if !on_postgres() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("shared.db");
+    let keyed = |workers| {
+        Server::with(Options {
+            workers: Some(workers),
+            db: Some(db.clone()),
+            keys: Some("alice-key,bob-key"),
+            ..Options::default()
+        })
+    };
+    let (a, b) = (keyed(1), keyed(0));
+    let send = |server: &Server| {
+        server
+            .as_key("alice-key")
+            .request(reqwest::Method::POST, "/v1/jobs")
+            .header("Idempotency-Key", "lab-7-run-12")
+            .json(&quick_job(5))
+            .send()
+    };
+    let first: Value = send(&a).await.unwrap().json().await.unwrap();
+    let again = send(&b).await.unwrap();
+    assert_eq!(again.status(), 202);
+    let again: Value = again.json().await.unwrap();
+    assert_eq!(
+        first["id"], again["id"],
+        "one job for one key, whichever node"
+    );
+    let id = first["id"].as_str().unwrap();
+    for server in [&a, &b] {
+        let bob = server.as_key("bob-key");
+        assert_eq!(bob.get(&format!("/v1/jobs/{id}")).await.status(), 404);
+        let listed: Value = bob.get("/v1/jobs").await.json().await.unwrap();
+        assert_eq!(listed["jobs"].as_array().unwrap().len(), 0);
+        let alice = server.as_key("alice-key");
+        assert_eq!(alice.get(&format!("/v1/jobs/{id}")).await.status(), 200);
+    }
+}
