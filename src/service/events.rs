@@ -72,24 +72,18 @@ pub async fn stream(
             let Some(receiver) = live.as_mut().filter(|_| !finished) else {
                 break;
             };
+            // The next event is sent as it comes. Otherwise catch up from the
+            // store: an event further on (another node's announcement was
+            // lost), a lag, or the job's end.
             match receiver.recv().await {
-                // The next event: send it. One further on (an announcement
-                // from another node was lost): catch up from the store.
-                Ok(event) if event.seq <= last + 1 => backlog.push(event),
-                Ok(_) => match state.store.events_after(&id, last).await {
-                    Ok(events) => backlog = events,
-                    Err(e) => { tracing::error!(job = %id, "events: {e}"); break; }
-                },
-                // Fell behind, or the job ended: catch up from the store.
-                Err(error) => {
-                    if matches!(error, RecvError::Closed) {
-                        live = None;
-                    }
-                    match state.store.events_after(&id, last).await {
-                        Ok(events) => backlog = events,
-                        Err(e) => { tracing::error!(job = %id, "events: {e}"); break; }
-                    }
-                }
+                Ok(event) if event.seq <= last + 1 => { backlog.push(event); continue; }
+                Ok(_) => {}
+                Err(RecvError::Closed) => live = None,
+                Err(RecvError::Lagged(_)) => {}
+            }
+            match state.store.events_after(&id, last).await {
+                Ok(events) => backlog = events,
+                Err(e) => { tracing::error!(job = %id, "events: {e}"); break; }
             }
         }
         drop(live);

@@ -235,26 +235,9 @@ fn detail(row: &JobRow) -> Result<Value, Problem> {
     if let Ok(request) = serde_json::from_str::<JobRequest>(&row.request) {
         let fidelity = request.options.fidelity.unwrap_or_default();
         view["search_budget"] = json!(request.options.budget.unwrap_or(fidelity.budget()));
-        let stored = serde_json::to_value(&request).map_err(Problem::internal)?;
-        view["request"] = without_nulls(stored);
+        view["request"] = serde_json::to_value(&request).map_err(Problem::internal)?;
     }
     Ok(view)
-}
-
-/// `value` with every null member left out: the API takes an absent field
-/// for its default and refuses null, so a request it answers is one it takes.
-fn without_nulls(value: Value) -> Value {
-    match value {
-        Value::Object(members) => Value::Object(
-            members
-                .into_iter()
-                .filter(|(_, v)| !v.is_null())
-                .map(|(k, v)| (k, without_nulls(v)))
-                .collect(),
-        ),
-        Value::Array(items) => Value::Array(items.into_iter().map(without_nulls).collect()),
-        other => other,
-    }
 }
 
 pub async fn cancel(

@@ -151,30 +151,46 @@ impl std::str::FromStr for Start {
 /// preset's value. The CLI's research flags and the API's job options are
 /// translated into this, so both front ends resolve through one path.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+/// Absent fields are left out when serialised (a stored job request reads
+/// back as it was sent; the API refuses null).
 #[serde(default, deny_unknown_fields)]
 pub struct TuningOverrides {
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub search_patience: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub initial_step: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub start: Option<Start>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub warm_starts: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub objective: Option<ObjectiveOptions>,
     /// Uniform meshes of this element size for the search, half of it for
     /// the refine and the verification, with no correction and no final
     /// refine (applied before the other mesh fields).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub uniform_mesh_mm: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub polish_budget: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub refine_budget: Option<usize>,
     /// false: no correction of the refine by a finer model.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub correction: Option<bool>,
     /// false: no final refine.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub final_refine: Option<bool>,
     /// Whether long KSA runs become trains of patches within the bounds.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub trains: Option<bool>,
     /// Whether the layout with patches on gentle bends is tried.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub gentle_bends: Option<bool>,
     /// Whether a planar target gets a planar design.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub planar_designs: Option<bool>,
     /// KSA's curvature tolerance (mm⁻¹): bends gentler than this get no patch.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub kappa_tol: Option<f64>,
 }
 
