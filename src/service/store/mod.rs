@@ -2,11 +2,13 @@
 //! job, so nothing is lost on restart. Two backends behind one interface:
 //! SQLite (`sqlite.rs`, a file; the default) and PostgreSQL (`postgres.rs`,
 //! a server that several nodes can share), each migrated at start from its
-//! own `migrations/` folder. The SQL is each backend's own; the semantics
-//! (and the service tests, run against both) are the same.
+//! own `migrations/` folder. Most statements are written once for both
+//! (`statements.rs`); each backend adds how it opens, numbers a job's
+//! events and locks a claim. The service tests run against both.
 
 mod postgres;
 mod sqlite;
+mod statements;
 
 use std::fmt;
 use std::path::PathBuf;
