@@ -2,6 +2,7 @@
 
 use std::fmt::Write;
 use std::sync::atomic::Ordering;
+use std::time::Duration;
 
 use axum::extract::State;
 use axum::http::{StatusCode, header};
@@ -23,7 +24,10 @@ pub async fn readyz(State(state): State<AppState>) -> Response {
     if state.shutting_down.load(Ordering::Relaxed) {
         return Problem::new(StatusCode::SERVICE_UNAVAILABLE, "shutting down").into_response();
     }
-    if !state.store.ping().await {
+    // A database that went away can leave a connection waiting: give the
+    // answer within two seconds either way.
+    let ping = tokio::time::timeout(Duration::from_secs(2), state.store.ping());
+    if !ping.await.unwrap_or(false) {
         return Problem::new(
             StatusCode::SERVICE_UNAVAILABLE,
             "the database does not answer",

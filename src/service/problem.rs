@@ -64,7 +64,19 @@ impl Problem {
 }
 
 impl From<sqlx::Error> for Problem {
+    /// A database that does not answer (restarting, unreachable) is 503 with
+    /// `Retry-After`, so a client tries again; anything else is the server's
+    /// own failure.
     fn from(error: sqlx::Error) -> Problem {
+        if crate::service::store::unavailable(&error) {
+            tracing::warn!("database unavailable: {error}");
+            let mut problem = Problem::new(
+                StatusCode::SERVICE_UNAVAILABLE,
+                "the database does not answer; try again shortly",
+            );
+            problem.retry_after_s = Some(2);
+            return problem;
+        }
         Problem::internal(error)
     }
 }

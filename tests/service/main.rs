@@ -12,6 +12,7 @@ mod bad_input;
 mod browser;
 mod lifecycle;
 mod nodes;
+mod outage;
 mod page_routes;
 mod recovery;
 mod schemathesis;

@@ -42,13 +42,17 @@ pub struct Options {
     pub addr: Option<std::net::SocketAddr>,
     /// A SQLite file whatever the backend under test (SQLite's own migrations).
     pub sqlite: bool,
+    /// This PostgreSQL server instead of `PATCHWORK_TEST_POSTGRES`'s (a
+    /// test's own cluster, which it restarts).
+    pub postgres: Option<String>,
 }
 
 /// The `--db` of a server whose SQLite file would be `file`: that file, or
-/// under `PATCHWORK_TEST_POSTGRES` a database named after it on that server
-/// (created the first time; a restarted server finds its jobs again).
-fn database_for(file: &Path) -> String {
-    let Ok(server) = std::env::var("PATCHWORK_TEST_POSTGRES") else {
+/// on PostgreSQL `server` (by default `PATCHWORK_TEST_POSTGRES`) a database
+/// named after it (created the first time; a restarted server finds its
+/// jobs again).
+fn database_for(file: &Path, server: Option<String>) -> String {
+    let Some(server) = server.or_else(|| std::env::var("PATCHWORK_TEST_POSTGRES").ok()) else {
         return file.display().to_string();
     };
     use std::hash::{Hash, Hasher};
@@ -104,7 +108,7 @@ impl Server {
         let log = db.with_extension(format!("{}.log", std::process::id()));
         let database = match options.sqlite {
             true => db.display().to_string(),
-            false => database_for(&db),
+            false => database_for(&db, options.postgres.clone()),
         };
         let mut command = Command::new(env!("CARGO_BIN_EXE_patchwork"));
         command

@@ -178,6 +178,25 @@ fn renewal_of(now: Option<(String, i64)>, lease: &Lease) -> Renewal {
     }
 }
 
+/// Whether `error` says the database could not be reached or is going away
+/// (a restart, a network failure, an exhausted pool) rather than that a
+/// statement was wrong: worth trying again once it answers. PostgreSQL's
+/// SQLSTATE classes 08 (connection exception) and 57P (operator
+/// intervention: shutdown, starting up) count.
+pub fn unavailable(error: &sqlx::Error) -> bool {
+    match error {
+        sqlx::Error::Io(_)
+        | sqlx::Error::Tls(_)
+        | sqlx::Error::PoolTimedOut
+        | sqlx::Error::PoolClosed
+        | sqlx::Error::WorkerCrashed => true,
+        sqlx::Error::Database(e) => e
+            .code()
+            .is_some_and(|code| code.starts_with("08") || code.starts_with("57P")),
+        _ => false,
+    }
+}
+
 /// The same call on whichever backend this store is.
 macro_rules! on_backend {
     ($store:expr, $backend:ident => $call:expr) => {

@@ -1,0 +1,131 @@
+//! How a run ends in the store: the result stored and the job succeeded,
+//! the job failed, or (shutdown) queued again. These writes are what a user
+//! waits for, so while the database does not answer (a restart, a network
+//! failure) they are tried again until it does; the attempt fences them, so
+//! a write that lands after another worker took the job over is dropped.
+
+use std::future::Future;
+use std::sync::atomic::Ordering;
+use std::time::Duration;
+
+use patchwork_core::fabrication::design_files;
+use patchwork_core::inverse::{DesignOutcome, DesignReport, DesignRunError};
+use serde_json::json;
+
+use crate::service::state::{AppState, StopReason};
+use crate::service::store::{self, Lease};
+
+/// What the blocking run returned (or how its thread failed).
+pub(super) type Outcome = Result<Result<DesignOutcome, DesignRunError>, tokio::task::JoinError>;
+
+/// Stores how the run ended; `stopped` is why it was stopped, if it was.
+pub(super) async fn conclude(
+    state: &AppState,
+    lease: &Lease,
+    outcome: Outcome,
+    stopped: Option<StopReason>,
+    seed: u64,
+) {
+    match outcome {
+        Ok(Ok(outcome)) => succeed(state, lease, &DesignReport::new(&outcome, seed)).await,
+        Ok(Err(DesignRunError::Cancelled)) => match stopped {
+            Some(StopReason::Shutdown) => {
+                // Back to the queue: the next start (or another node) resumes
+                // from the checkpoint. Tried once: the process is leaving, and
+                // a lease that runs out comes back to the queue as well.
+                if let Err(e) = state.store.requeue(lease).await {
+                    tracing::error!("re-queueing: {e}");
+                }
+                tracing::info!("interrupted by shutdown; queued to resume");
+            }
+            Some(StopReason::TimeLimit) => {
+                let limit = state.config.job_time_limit.as_secs();
+                fail(state, lease, &format!("time limit of {limit} s exceeded")).await
+            }
+            Some(StopReason::LeaseLost) => {
+                tracing::warn!("lease lost: another worker holds the job; stopped without writing")
+            }
+            _ => tracing::info!("stopped: cancelled"),
+        },
+        Ok(Err(e)) => fail(state, lease, &e.to_string()).await,
+        Err(e) => fail(state, lease, &format!("internal error: {e}")).await,
+    }
+}
+
+/// Stores the result, its files and the `done` event, and marks the job
+/// succeeded.
+async fn succeed(state: &AppState, lease: &Lease, report: &DesignReport) {
+    let files = match design_files(report) {
+        Ok(files) => files,
+        Err(e) => return fail(state, lease, &format!("writing the result files: {e}")).await,
+    };
+    let result = files
+        .iter()
+        .find(|f| f.name == "design.json")
+        .map(|f| String::from_utf8_lossy(&f.body).into_owned())
+        .unwrap_or_default();
+    let m = &report.metrics;
+    let done = json!({
+        "result": format!("/v1/jobs/{}/result", lease.id),
+        "shape_error_percent": finite(m.shape_error_percent),
+        "objective": finite(m.objective),
+        "evaluations": report.evaluations,
+        "elapsed_s": report.elapsed_s,
+    })
+    .to_string();
+    let stored = until_stored(state, "storing the result", || {
+        state.store.finish(lease, &result, &files, &done)
+    });
+    match stored.await {
+        Ok(Some(event)) => {
+            state.hub.publish(&lease.id, event);
+            tracing::info!(
+                evaluations = report.evaluations,
+                shape_error_percent = m.shape_error_percent,
+                "succeeded"
+            );
+        }
+        Ok(None) => tracing::info!("finished after it was cancelled or taken over; result dropped"),
+        Err(e) => tracing::error!("storing the result: {e}"),
+    }
+}
+
+/// Marks the job failed with `error`, and stores the `failed` event.
+pub(super) async fn fail(state: &AppState, lease: &Lease, error: &str) {
+    tracing::warn!("failed: {error}");
+    let event = json!({ "error": error });
+    let fence = Some(lease.attempt);
+    let ended = until_stored(state, "marking failed", || {
+        state.end_job(&lease.id, "failed", Some(error), &event, fence)
+    });
+    if let Err(e) = ended.await {
+        tracing::error!("marking failed: {e}");
+    }
+}
+
+/// Runs `write` until the database takes it: while the database is
+/// unavailable (see [`store::unavailable`]) it is tried again, after
+/// 0.25 s, 0.5 s, 1 s and then every 2 s, unless the node is shutting down.
+/// Any other error is returned at once.
+async fn until_stored<T, F, W>(state: &AppState, what: &str, mut write: W) -> Result<T, sqlx::Error>
+where
+    W: FnMut() -> F,
+    F: Future<Output = Result<T, sqlx::Error>>,
+{
+    let mut wait = Duration::from_millis(250);
+    loop {
+        match write().await {
+            Err(e) if store::unavailable(&e) && !state.shutting_down.load(Ordering::Relaxed) => {
+                tracing::warn!("{what}: {e}; trying again in {wait:?}");
+                tokio::time::sleep(wait).await;
+                wait = (wait * 2).min(Duration::from_secs(2));
+            }
+            other => return other,
+        }
+    }
+}
+
+/// NaN and infinities have no JSON form: report them as null.
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
