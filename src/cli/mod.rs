@@ -58,6 +58,12 @@ enum Command {
     /// HTTP design service: REST API, SQLite job store, worker pool.
     #[command(after_help = "Example:\n  patchwork serve --addr 0.0.0.0:8080 --db patchwork.db")]
     Serve(crate::service::ServeArgs),
+    /// Copy every job (events, iterations, result files) from one job store
+    /// into another: a SQLite file into PostgreSQL, or back.
+    #[command(
+        after_help = "Example:\n  patchwork copy-jobs --from ./patchwork.db --to postgres://patchwork:secret@db.lab/patchwork"
+    )]
+    CopyJobs(crate::service::CopyJobsArgs),
 }
 
 pub fn run() -> Result<()> {
@@ -72,6 +78,7 @@ pub fn run() -> Result<()> {
         Command::Simulate(args) => simulate_cmd::run(args),
         Command::Design(args) => design_cmd::run(args),
         Command::Serve(args) => crate::service::run(args),
+        Command::CopyJobs(args) => crate::service::copy_jobs::run(args),
         Command::Bench(args) => bench_cmd::run(args),
     }
 }

@@ -5,6 +5,7 @@
 mod auth;
 mod body_limit;
 mod config;
+pub mod copy_jobs;
 mod events;
 mod jobs;
 mod ops;
@@ -32,6 +33,7 @@ use tower_http::trace::TraceLayer;
 
 use config::Config;
 pub use config::ServeArgs;
+pub use copy_jobs::CopyJobsArgs;
 use problem::Problem;
 use routes::Access;
 use state::{AppState, Shared};

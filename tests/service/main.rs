@@ -10,6 +10,7 @@ mod webdriver;
 mod access;
 mod bad_input;
 mod browser;
+mod copy_jobs;
 mod lifecycle;
 mod nodes;
 mod outage;

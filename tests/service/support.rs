@@ -51,7 +51,7 @@ pub struct Options {
 /// on PostgreSQL `server` (by default `PATCHWORK_TEST_POSTGRES`) a database
 /// named after it (created the first time; a restarted server finds its
 /// jobs again).
-fn database_for(file: &Path, server: Option<String>) -> String {
+pub fn database_for(file: &Path, server: Option<String>) -> String {
     let Some(server) = server.or_else(|| std::env::var("PATCHWORK_TEST_POSTGRES").ok()) else {
         return file.display().to_string();
     };

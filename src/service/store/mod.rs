@@ -9,6 +9,7 @@
 mod postgres;
 mod sqlite;
 mod statements;
+mod transfer;
 
 use std::fmt;
 use std::path::PathBuf;
@@ -17,6 +18,8 @@ use std::time::Duration;
 use patchwork_core::fabrication::OutputFile;
 use serde::Serialize;
 use sqlx::FromRow;
+
+pub use transfer::JobExport;
 
 use postgres::PgStore;
 use sqlite::SqliteStore;
@@ -394,6 +397,22 @@ impl Store {
 
     pub async fn delete(&self, id: &str) -> Result<(), sqlx::Error> {
         on_backend!(self, s => s.delete(id).await)
+    }
+
+    /// Every job's id, oldest first.
+    pub async fn job_ids(&self) -> Result<Vec<String>, sqlx::Error> {
+        on_backend!(self, s => s.job_ids().await)
+    }
+
+    /// The job with its events, iterations and files.
+    pub async fn export_job(&self, id: &str) -> Result<Option<JobExport>, sqlx::Error> {
+        on_backend!(self, s => s.export_job(id).await)
+    }
+
+    /// Stores an exported job (a running one as queued, to resume from its
+    /// checkpoint); `false`, writing nothing, when the job is already here.
+    pub async fn import_job(&self, job: &JobExport) -> Result<bool, sqlx::Error> {
+        on_backend!(self, s => s.import_job(job).await)
     }
 }
 

@@ -7,6 +7,7 @@
 use std::time::Duration;
 
 use super::statements::shared_statements;
+use super::transfer::{self, transfer_statements};
 use super::{
     Claim, Iteration, JOB_COLUMNS, JobRow, Lease, Renewal, StoredEvent, after, claim_of, now,
     renewal_of,
@@ -35,10 +36,15 @@ impl PgStore {
     }
 
     shared_statements!();
+    transfer_statements!();
 }
 
 /// Concurrent claims of several nodes pass over each other's rows.
 const CLAIM_LOCK: &str = "FOR UPDATE SKIP LOCKED";
+
+/// The job's event counter continues after its last imported event.
+const IMPORT_SEQ: &str = "UPDATE jobs SET last_seq = (SELECT COALESCE(MAX(seq), 0) FROM events
+                          WHERE job_id = $1) WHERE id = $1";
 
 /// Inserts an event with the job's next id, taken from the counter on the
 /// job's row (whose row lock orders concurrent writers) in the caller's

@@ -9,6 +9,7 @@ use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, S
 use sqlx::{SqliteConnection, SqlitePool};
 
 use super::statements::shared_statements;
+use super::transfer::{self, transfer_statements};
 use super::{
     Claim, Iteration, JOB_COLUMNS, JobRow, Lease, Renewal, StoredEvent, after, claim_of, now,
     renewal_of,
@@ -37,6 +38,7 @@ impl SqliteStore {
     }
 
     shared_statements!();
+    transfer_statements!();
 
     /// After a crash: jobs that were running are queued again (they resume
     /// from their checkpoints). Returns how many.
@@ -53,6 +55,9 @@ impl SqliteStore {
 
 /// One connection writes at a time: a claim's subquery needs no row lock.
 const CLAIM_LOCK: &str = "";
+
+/// SQLite numbers a job's events from the events themselves.
+const IMPORT_SEQ: &str = "";
 
 /// Inserts an event with the job's next id (one statement, so two writers
 /// never take the same id); with `fence`, only while the job runs under

@@ -1,0 +1,86 @@
+//! `patchwork copy-jobs`: every job of one job store into another — from a
+//! SQLite file into PostgreSQL when a lab outgrows one machine, or back.
+//! Each job goes with its events, iterations and result files, in one
+//! transaction; a job the destination already has is skipped, so a copy
+//! that stopped half-way can simply be run again. The source is read, never
+//! changed (apart from migrating it, as `serve` would).
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+
+use super::store::{Database, Store};
+
+#[derive(Debug, Args)]
+pub struct CopyJobsArgs {
+    /// The store to copy from: a SQLite file or postgres://USER:PASSWORD@HOST:PORT/DB.
+    /// Stop the servers that use it first: a job that was running is copied as
+    /// queued, to resume from its checkpoint wherever the copy is served.
+    #[arg(long)]
+    pub from: String,
+    /// The store to copy into (created and migrated if it is a missing SQLite
+    /// file; a PostgreSQL database must exist).
+    #[arg(long)]
+    pub to: String,
+}
+
+/// How many jobs a copy wrote and skipped.
+#[derive(Debug, Default)]
+struct Tally {
+    copied: usize,
+    skipped: usize,
+    events: usize,
+    files: usize,
+}
+
+pub fn run(args: CopyJobsArgs) -> Result<()> {
+    let (from, to) = (Database::parse(&args.from), Database::parse(&args.to));
+    if args.from == args.to {
+        bail!("--from and --to are the same store ({from})");
+    }
+    if let Database::Sqlite(path) = &from
+        && !path.exists()
+    {
+        bail!("--from: no such file {}", path.display());
+    }
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .context("starting the async runtime")?;
+    let tally = runtime.block_on(copy(&from, &to))?;
+    println!(
+        "copied {} jobs ({} events, {} files) from {from} to {to}; {} already there, skipped",
+        tally.copied, tally.events, tally.files, tally.skipped
+    );
+    Ok(())
+}
+
+async fn copy(from: &Database, to: &Database) -> Result<Tally> {
+    let source = Store::open(from)
+        .await
+        .with_context(|| format!("--from: opening {from}"))?;
+    let destination = Store::open(to)
+        .await
+        .with_context(|| format!("--to: opening {to}"))?;
+    let mut tally = Tally::default();
+    for id in source.job_ids().await.context("--from: listing jobs")? {
+        let Some(job) = source
+            .export_job(&id)
+            .await
+            .with_context(|| format!("--from: reading job {id}"))?
+        else {
+            continue; // deleted meanwhile
+        };
+        let written = destination
+            .import_job(&job)
+            .await
+            .with_context(|| format!("--to: writing job {id}"))?;
+        if written {
+            tally.copied += 1;
+            tally.events += job.events.len();
+            tally.files += job.files.len();
+        } else {
+            tally.skipped += 1;
+        }
+    }
+    Ok(tally)
+}
