@@ -39,27 +39,12 @@ impl Node {
 
     /// Submits a job; returns its id.
     pub async fn submit(&self, client: &reqwest::Client, body: &Value) -> String {
-        let job: Value = client
-            .post(self.url("/v1/jobs"))
-            .json(body)
-            .send()
-            .await
-            .unwrap()
-            .json()
-            .await
-            .unwrap();
+        let job = json_of(client.post(self.url("/v1/jobs")).json(body)).await;
         job["id"].as_str().expect("a job id").to_string()
     }
 
     pub async fn status(&self, client: &reqwest::Client, id: &str) -> String {
-        let job: Value = client
-            .get(self.url(&format!("/v1/jobs/{id}")))
-            .send()
-            .await
-            .unwrap()
-            .json()
-            .await
-            .unwrap();
+        let job = json_of(client.get(self.url(&format!("/v1/jobs/{id}")))).await;
         job["status"].as_str().unwrap_or_default().to_string()
     }
 
@@ -83,6 +68,11 @@ impl Node {
             .and_then(|n| n.trim().parse().ok())
             .unwrap_or(0)
     }
+}
+
+/// The JSON answer to `request`.
+async fn json_of(request: reqwest::RequestBuilder) -> Value {
+    request.send().await.unwrap().json().await.unwrap()
 }
 
 impl Drop for Node {

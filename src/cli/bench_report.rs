@@ -109,7 +109,7 @@ fn headline(
     }
     s.push_str(&match service {
         Some(text) => format!(
-            "| HTTP service while two jobs compute | {} |\n",
+            "| HTTP service while designs compute | {} |\n",
             service_headline(text)
         ),
         None => "| HTTP service under load | not measured in this report (see below) |\n".into(),
@@ -126,8 +126,8 @@ fn headline(
 fn service_headline(section: &str) -> String {
     let bold: Vec<&str> = section.split("**").skip(1).step_by(2).collect();
     match bold.as_slice() {
-        [p99, sse, ..] => format!(
-            "status requests at 500/s: median p99 {p99}; SSE clients that got every event: {sse}"
+        [sqlite, postgres, ..] => format!(
+            "500 status requests/s — SQLite, one node: {sqlite}; PostgreSQL, two nodes: {postgres}"
         ),
         _ => "see below".into(),
     }

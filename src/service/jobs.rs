@@ -131,12 +131,22 @@ pub async fn create(
         return Err(p);
     }
     let id = uuid::Uuid::now_v7().to_string();
-    let row = match state
+    let queued = json!({"stage": "queued"}).to_string();
+    let inserted = state
         .store
-        .insert_job(&id, owner.stored(), &stored, key.as_deref())
-        .await?
-    {
-        Some(row) => row,
+        .insert_job(
+            &id,
+            owner.stored(),
+            &stored,
+            key.as_deref(),
+            ("stage", &queued),
+        )
+        .await?;
+    let row = match inserted {
+        Some((row, event)) => {
+            state.hub.publish(&row.id, event);
+            row
+        }
         // A concurrent request with the same key won the race.
         None => {
             let existing = state
@@ -147,9 +157,6 @@ pub async fn create(
             return replay(&existing, &stored);
         }
     };
-    state
-        .emit(&row.id, "stage", &json!({"stage": "queued"}), None)
-        .await?;
     tracing::info!(job = %row.id, "job queued");
     state.wake.notify_one();
     Ok(accepted(&row))

@@ -230,15 +230,18 @@ impl Store {
         on_backend!(self, s => s.ping().await)
     }
 
-    /// Inserts a queued job; `None` when the owner already used `idempotency_key`.
+    /// Inserts a queued job with its first event, at once (a worker never
+    /// sees the job without it); `None` when the owner already used
+    /// `idempotency_key`.
     pub async fn insert_job(
         &self,
         id: &str,
         owner: &str,
         request: &str,
         idempotency_key: Option<&str>,
-    ) -> Result<Option<JobRow>, sqlx::Error> {
-        on_backend!(self, s => s.insert_job(id, owner, request, idempotency_key).await)
+        event: (&str, &str),
+    ) -> Result<Option<(JobRow, StoredEvent)>, sqlx::Error> {
+        on_backend!(self, s => s.insert_job(id, owner, request, idempotency_key, event).await)
     }
 
     pub async fn job_by_idempotency_key(

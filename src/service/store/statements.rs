@@ -21,20 +21,26 @@ macro_rules! shared_statements {
             owner: &str,
             request: &str,
             idempotency_key: Option<&str>,
-        ) -> Result<Option<JobRow>, sqlx::Error> {
+            event: (&str, &str),
+        ) -> Result<Option<(JobRow, StoredEvent)>, sqlx::Error> {
             let sql = format!(
                 "INSERT INTO jobs (id, owner, status, request, idempotency_key, created_at, updated_at)
                  VALUES ($1, $2, 'queued', $3, $4, $5, $5)
                  ON CONFLICT DO NOTHING RETURNING {JOB_COLUMNS}"
             );
-            sqlx::query_as::<_, JobRow>(&sql)
+            let mut tx = self.pool.begin().await?;
+            let row = sqlx::query_as::<_, JobRow>(&sql)
                 .bind(id)
                 .bind(owner)
                 .bind(request)
                 .bind(idempotency_key)
                 .bind(now())
-                .fetch_optional(&self.pool)
-                .await
+                .fetch_optional(&mut *tx)
+                .await?;
+            let Some(row) = row else { return Ok(None) };
+            let stored = insert_event(&mut tx, id, event, None).await?;
+            tx.commit().await?;
+            Ok(stored.map(|event| (row, event)))
         }
 
         pub(super) async fn job_by_idempotency_key(
