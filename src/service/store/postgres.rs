@@ -13,7 +13,8 @@ use super::{
     renewal_of,
 };
 use patchwork_core::fabrication::OutputFile;
-use sqlx::postgres::{PgConnection, PgPool, PgPoolOptions};
+use sqlx::postgres::{PgConnectOptions, PgConnection, PgPool, PgPoolOptions};
+use sqlx::{ConnectOptions, Connection};
 
 #[derive(Clone)]
 pub struct PgStore {
@@ -22,10 +23,18 @@ pub struct PgStore {
 
 impl PgStore {
     pub(super) async fn open(url: &str) -> Result<PgStore, sqlx::Error> {
+        let options: PgConnectOptions = url.parse()?;
+        // One connection first, so that a server that cannot be reached or
+        // refuses the login says why (the pool would only time out).
+        let first = tokio::time::timeout(Duration::from_secs(5), options.connect()).await;
+        match first {
+            Ok(connection) => connection?.close().await?,
+            Err(_) => return Err(sqlx::Error::PoolTimedOut),
+        }
         let pool = PgPoolOptions::new()
             .max_connections(8)
             .acquire_timeout(Duration::from_secs(5))
-            .connect(url)
+            .connect_with(options)
             .await?;
         sqlx::migrate!("./migrations/postgres").run(&pool).await?;
         Ok(PgStore { pool })
