@@ -48,10 +48,18 @@ pub fn run(args: CopyJobsArgs) -> Result<()> {
         .context("starting the async runtime")?;
     let tally = runtime.block_on(copy(&from, &to))?;
     println!(
-        "copied {} jobs ({} events, {} files) from {from} to {to}; {} already there, skipped",
-        tally.copied, tally.events, tally.files, tally.skipped
+        "copied {} ({}, {}) from {from} to {to}; {} already there, skipped",
+        count(tally.copied, "job"),
+        count(tally.events, "event"),
+        count(tally.files, "file"),
+        tally.skipped
     );
     Ok(())
+}
+
+/// "1 job", "2 jobs".
+fn count(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
 }
 
 async fn copy(from: &Database, to: &Database) -> Result<Tally> {
@@ -62,9 +70,13 @@ async fn copy(from: &Database, to: &Database) -> Result<Tally> {
         .await
         .with_context(|| format!("--to: opening {to}"))?;
     let mut tally = Tally::default();
-    for id in source.job_ids().await.context("--from: listing jobs")? {
+    let ids = source.job_ids().await.context("--from: listing jobs")?;
+    for (done, id) in ids.iter().enumerate() {
+        if done > 0 && done % 100 == 0 {
+            eprintln!("{done} of {} jobs read", ids.len());
+        }
         let Some(job) = source
-            .export_job(&id)
+            .export_job(id)
             .await
             .with_context(|| format!("--from: reading job {id}"))?
         else {

@@ -141,9 +141,10 @@ fn readable_checkpoint(text: &str) -> Option<DesignCheckpoint> {
 }
 
 /// Renews the job's lease while it runs, and stops the run when the job was
-/// cancelled (through any node) or claimed by another worker. Renewals come
-/// often enough (a tenth of the lease, at most a second apart) that a
-/// cancel on another node stops the run within about a second.
+/// cancelled (through any node) or claimed by another worker. A cancel on
+/// another node is announced and stops the run at once (relay.rs); the
+/// renewals (a tenth of the lease, at most a second apart) catch one whose
+/// announcement was lost.
 async fn hold(state: AppState, lease: Lease, control: Arc<JobControl>) {
     let every = (state.config.lease / 10).min(Duration::from_secs(1));
     loop {
