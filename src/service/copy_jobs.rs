@@ -2,7 +2,9 @@
 //! SQLite file into PostgreSQL when a lab outgrows one machine, or back.
 //! Each job goes with its events, iterations and result files, in one
 //! transaction; a job the destination already has is skipped, so a copy
-//! that stopped half-way can simply be run again. The source is read, never
+//! that stopped half-way can simply be run again. A job whose idempotency
+//! key another job of the destination already holds is not copied, and
+//! the command says so and fails. The source is read, never
 //! changed (apart from migrating it, as `serve` would).
 
 use anyhow::{Context, Result, bail};
@@ -30,6 +32,9 @@ struct Tally {
     skipped: usize,
     events: usize,
     files: usize,
+    /// Jobs not copied: their owner's idempotency key belongs to another
+    /// job in the destination.
+    clashes: Vec<String>,
 }
 
 pub fn run(args: CopyJobsArgs) -> Result<()> {
@@ -54,6 +59,13 @@ pub fn run(args: CopyJobsArgs) -> Result<()> {
         count(tally.files, "file"),
         tally.skipped
     );
+    if let [first, ..] = tally.clashes.as_slice() {
+        bail!(
+            "{} not copied: the destination has another job with the same API key and \
+             Idempotency-Key (first: {first})",
+            count(tally.clashes.len(), "job")
+        );
+    }
     Ok(())
 }
 
@@ -90,8 +102,10 @@ async fn copy(from: &Database, to: &Database) -> Result<Tally> {
             tally.copied += 1;
             tally.events += job.events.len();
             tally.files += job.files.len();
-        } else {
+        } else if destination.job(id, None).await?.is_some() {
             tally.skipped += 1;
+        } else {
+            tally.clashes.push(id.clone());
         }
     }
     Ok(tally)

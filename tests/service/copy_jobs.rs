@@ -11,7 +11,8 @@ use serde_json::Value;
 
 use crate::support::*;
 
-fn copy_jobs(from: &Path, to: &str) -> String {
+/// `patchwork copy-jobs`: whether it succeeded, its stdout and its stderr.
+fn run_copy_jobs(from: &Path, to: &str) -> (bool, String, String) {
     let output = Command::new(env!("CARGO_BIN_EXE_patchwork"))
         .arg("copy-jobs")
         .arg("--from")
@@ -19,12 +20,31 @@ fn copy_jobs(from: &Path, to: &str) -> String {
         .args(["--to", to])
         .output()
         .unwrap();
-    assert!(
+    let text = |bytes: &[u8]| String::from_utf8_lossy(bytes).trim().to_string();
+    (
         output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8_lossy(&output.stdout).trim().to_string()
+        text(&output.stdout),
+        text(&output.stderr),
+    )
+}
+
+fn copy_jobs(from: &Path, to: &str) -> String {
+    let (ok, stdout, stderr) = run_copy_jobs(from, to);
+    assert!(ok, "{stderr}");
+    stdout
+}
+
+async fn submit_with_key(api: &Api, body: &Value, key: &str) -> String {
+    let response = api
+        .request(reqwest::Method::POST, "/v1/jobs")
+        .header("Idempotency-Key", key)
+        .json(body)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(response.status(), 202);
+    let job: Value = response.json().await.unwrap();
+    job["id"].as_str().unwrap().to_string()
 }
 
 async fn text(api: &Api, path: &str) -> String {
@@ -48,7 +68,7 @@ async fn copied_jobs_are_served_as_they_were_and_unfinished_ones_go_on() {
         ..Options::default()
     });
     let api = source.api();
-    let done = api.submit(&quick_job(5)).await;
+    let done = submit_with_key(&api, &quick_job(5), "run-1").await;
     api.wait_for(&done, &["succeeded"], Duration::from_secs(120))
         .await;
     let cancelled = api.submit(&long_job(2000)).await;
@@ -103,4 +123,21 @@ async fn copied_jobs_are_served_as_they_were_and_unfinished_ones_go_on() {
     let again = copy_jobs(&lab, &to);
     assert!(again.starts_with("copied 0 jobs"), "{again}");
     assert!(again.ends_with("4 already there, skipped"), "{again}");
+    drop(served);
+
+    // A store where the key "run-1" already made another job: that job is
+    // not copied, and the command fails saying so.
+    let other = dir.path().join("other.db");
+    let server = Server::with(Options {
+        workers: Some(1),
+        db: Some(other.clone()),
+        ..Options::default()
+    });
+    submit_with_key(&server.api(), &quick_job(9), "run-1").await;
+    drop(server);
+    let (ok, stdout, stderr) = run_copy_jobs(&lab, &database_for(&other, None));
+    assert!(!ok, "{stdout}");
+    assert!(stdout.starts_with("copied 3 jobs"), "{stdout}");
+    assert!(stderr.contains("1 job not copied"), "{stderr}");
+    assert!(stderr.contains(&done), "{stderr}");
 }
