@@ -157,21 +157,41 @@ pub async fn cancel_latency(
     cancelled.elapsed().as_secs_f64() * 1e3
 }
 
-/// The ids of every event of one SSE connection, to the end of the stream.
-pub async fn event_ids(client: &reqwest::Client, url: &str) -> Vec<u64> {
+/// The ids of every event of one SSE connection, to the end of the stream,
+/// each with when it arrived.
+pub async fn event_ids(client: &reqwest::Client, url: &str) -> Vec<(u64, Instant)> {
     let response = client.get(url).send().await.unwrap();
     let mut stream = response.bytes_stream();
     let mut buffer = String::new();
     let mut ids = Vec::new();
     while let Some(chunk) = stream.next().await {
         let Ok(chunk) = chunk else { break };
+        let arrived = Instant::now();
         buffer.push_str(&String::from_utf8_lossy(&chunk));
         while let Some(end) = buffer.find("\n\n") {
             let block: String = buffer.drain(..end + 2).collect();
             if let Some(id) = block.lines().find_map(|l| l.strip_prefix("id:")) {
-                ids.push(id.trim().parse().unwrap());
+                ids.push((id.trim().parse().unwrap(), arrived));
             }
         }
     }
     ids
+}
+
+/// For each event, how long after its first client the last one got it
+/// (ms): clients on every node, so on PostgreSQL this includes relaying
+/// the event to the nodes that do not run the job. Events every client got
+/// live only (the first ones, replayed from the store as clients connect,
+/// are left out).
+pub fn delivery_spread_ms(received: &[Vec<(u64, Instant)>], live_from: u64) -> Vec<f64> {
+    let mut spread: std::collections::BTreeMap<u64, (Instant, Instant)> = Default::default();
+    for (id, at) in received.iter().flatten() {
+        let entry = spread.entry(*id).or_insert((*at, *at));
+        entry.0 = entry.0.min(*at);
+        entry.1 = entry.1.max(*at);
+    }
+    spread
+        .range(live_from..)
+        .map(|(_, (first, last))| (*last - *first).as_secs_f64() * 1e3)
+        .collect()
 }
