@@ -35,13 +35,7 @@ fn copy_jobs(from: &Path, to: &str) -> String {
 }
 
 async fn submit_with_key(api: &Api, body: &Value, key: &str) -> String {
-    let response = api
-        .request(reqwest::Method::POST, "/v1/jobs")
-        .header("Idempotency-Key", key)
-        .json(body)
-        .send()
-        .await
-        .unwrap();
+    let response = api.submit_keyed(body, key).await;
     assert_eq!(response.status(), 202);
     let job: Value = response.json().await.unwrap();
     job["id"].as_str().unwrap().to_string()

@@ -253,18 +253,14 @@ async fn the_same_idempotency_key_gives_the_same_job() {
         ..Options::default()
     });
     let api = server.api();
-    let send = |body: Value| {
-        api.request(reqwest::Method::POST, "/v1/jobs")
-            .header("Idempotency-Key", "lab-7-run-12")
-            .json(&body)
-            .send()
-    };
-    let first: Value = send(quick_job(20)).await.unwrap().json().await.unwrap();
-    let again = send(quick_job(20)).await.unwrap();
+    let api = &api;
+    let send = |body: Value| async move { api.submit_keyed(&body, "lab-7-run-12").await };
+    let first: Value = send(quick_job(20)).await.json().await.unwrap();
+    let again = send(quick_job(20)).await;
     assert_eq!(again.status(), 202);
     let again: Value = again.json().await.unwrap();
     assert_eq!(first["id"], again["id"]);
-    let other = send(quick_job(21)).await.unwrap();
+    let other = send(quick_job(21)).await;
     assert_problem(other, 409, Some("Idempotency-Key")).await;
     let list: Value = api.get("/v1/jobs").await.json().await.unwrap();
     assert_eq!(list["jobs"].as_array().unwrap().len(), 1);

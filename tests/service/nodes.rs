@@ -156,15 +156,11 @@ async fn idempotency_and_keys_hold_across_nodes() {
     };
     let (a, b) = (keyed(1), keyed(0));
     let send = |server: &Server| {
-        server
-            .as_key("alice-key")
-            .request(reqwest::Method::POST, "/v1/jobs")
-            .header("Idempotency-Key", "lab-7-run-12")
-            .json(&quick_job(5))
-            .send()
+        let alice = server.as_key("alice-key");
+        async move { alice.submit_keyed(&quick_job(5), "lab-7-run-12").await }
     };
-    let first: Value = send(&a).await.unwrap().json().await.unwrap();
-    let again = send(&b).await.unwrap();
+    let first: Value = send(&a).await.json().await.unwrap();
+    let again = send(&b).await;
     assert_eq!(again.status(), 202);
     let again: Value = again.json().await.unwrap();
     assert_eq!(

@@ -60,13 +60,7 @@ impl Drop for Cluster {
 async fn submit_until_accepted(api: &Api, body: &Value, key: &str) -> String {
     let started = Instant::now();
     loop {
-        let response = api
-            .request(reqwest::Method::POST, "/v1/jobs")
-            .header("Idempotency-Key", key)
-            .json(body)
-            .send()
-            .await
-            .unwrap();
+        let response = api.submit_keyed(body, key).await;
         if response.status() == 202 {
             let job: Value = response.json().await.unwrap();
             return job["id"].as_str().unwrap().to_string();

@@ -220,6 +220,16 @@ impl Api {
             .unwrap()
     }
 
+    /// `POST /v1/jobs` with an `Idempotency-Key`.
+    pub async fn submit_keyed(&self, body: &Value, key: &str) -> reqwest::Response {
+        self.request(reqwest::Method::POST, "/v1/jobs")
+            .header("Idempotency-Key", key)
+            .json(body)
+            .send()
+            .await
+            .unwrap()
+    }
+
     /// Submits a job; returns its id.
     pub async fn submit(&self, body: &Value) -> String {
         let response = self.post("/v1/jobs", body).await;
