@@ -11,7 +11,7 @@ use patchwork_core::design::{Balloon, Bonding, Design, Patch, PatchSpec};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::{SimulateOptions, simulate};
-use patchwork_core::material::Material;
+use patchwork_core::material::{Law, Material};
 
 fn strip_design() -> Design {
     let (radius, length, theta) = (3.18_f64, 20.0_f64, 30.0_f64);
@@ -21,11 +21,11 @@ fn strip_design() -> Design {
             length_mm: length,
             radius_mm: radius,
             wall_mm: 0.183,
-            material: Material::NeoHookean { mu_mpa: 0.317 },
+            material: Material::incompressible(Law::NeoHookean { mu_mpa: 0.317 }),
         },
         patch: PatchSpec {
             thickness_mm: 0.49,
-            material: Material::NeoHookean { mu_mpa: 1.3 },
+            material: Material::incompressible(Law::NeoHookean { mu_mpa: 1.3 }),
             bonding: Bonding::Replace,
         },
         pressure_kpa: 6.0,

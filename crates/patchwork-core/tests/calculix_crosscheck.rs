@@ -33,7 +33,7 @@ use patchwork_core::curve::{Point, bend_and_twist};
 use patchwork_core::design::{Balloon, Bonding, Design, Patch, PatchSpec};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
-use patchwork_core::material::Material;
+use patchwork_core::material::{Law, Material};
 
 const RADIUS: f64 = 3.18;
 const WALL: f64 = 0.183;
@@ -64,11 +64,11 @@ fn design(length: f64, patch: Patch) -> Design {
             length_mm: length,
             radius_mm: RADIUS,
             wall_mm: WALL,
-            material: Material::NeoHookean { mu_mpa: WALL_MU },
+            material: Material::incompressible(Law::NeoHookean { mu_mpa: WALL_MU }),
         },
         patch: PatchSpec {
             thickness_mm: PATCH_T,
-            material: Material::NeoHookean { mu_mpa: PATCH_MU },
+            material: Material::incompressible(Law::NeoHookean { mu_mpa: PATCH_MU }),
             bonding: Bonding::Replace,
         },
         pressure_kpa: PRESSURE_KPA,

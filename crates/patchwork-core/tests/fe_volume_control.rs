@@ -13,7 +13,7 @@ use patchwork_core::fe::newton::NewtonOptions;
 use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::volume_control::VolumeSolver;
 use patchwork_core::fe::{SimulateOptions, simulate};
-use patchwork_core::material::Material;
+use patchwork_core::material::{Law, Material};
 
 const R0: f64 = 3.18;
 const T0: f64 = 0.183;
@@ -27,7 +27,7 @@ fn neo_hookean_pressure_maximum_by_volume_control() {
             length_mm: 25.0 * R0,
             radius_mm: R0,
             wall_mm: T0,
-            material: Material::NeoHookean { mu_mpa: MU },
+            material: Material::incompressible(Law::NeoHookean { mu_mpa: MU }),
         },
         pressure_kpa: 0.5 * MU * T0 / R0 * 1e3,
         ..Design::reference(vec![])

@@ -231,19 +231,26 @@ fn shifted_inverse(j: [[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::{Compressibility, Law};
 
     fn materials() -> Vec<Material> {
         vec![
             Material::reference_balloon(),
-            Material::NeoHookean { mu_mpa: 1.3 },
-            Material::Gent {
+            Material::compressible(
+                Law::NeoHookean { mu_mpa: 1.3 },
+                Compressibility::abaqus_explicit(),
+            ),
+            Material::incompressible(Law::Gent {
                 mu_mpa: 0.5,
                 jm: 30.0,
-            },
-            Material::Ogden {
-                mu_mpa: vec![0.6, 0.01],
-                alpha: vec![1.3, 5.0],
-            },
+            }),
+            Material::compressible(
+                Law::Ogden {
+                    mu_mpa: vec![0.6, 0.01],
+                    alpha: vec![1.3, 5.0],
+                },
+                Compressibility::BulkRatio(5.0),
+            ),
         ]
     }
 
@@ -332,15 +339,15 @@ mod tests {
         assert!((same.energy(c, &m) - average(&same)).abs() < 1e-12 * average(&same));
     }
 
-    /// Two neo-Hookean phases stretched across the interface (λ along n, 1
+    /// Two incompressible neo-Hookean phases stretched across the interface (λ along n, 1
     /// along the interface): ψ is the 1-D laminate, min over the phase
     /// stretches with φλ_A + (1 − φ)λ_B = λ, found here by bisection on the
     /// traction balance t_A μ_A (λ_A − λ_A⁻³) = t_B μ_B (λ_B − λ_B⁻³).
     #[test]
     fn stretch_across_the_interface_matches_the_one_dimensional_laminate() {
         let m = vec![
-            Material::NeoHookean { mu_mpa: 0.4 },
-            Material::NeoHookean { mu_mpa: 3.0 },
+            Material::incompressible(Law::NeoHookean { mu_mpa: 0.4 }),
+            Material::incompressible(Law::NeoHookean { mu_mpa: 3.0 }),
         ];
         let (phi, ta, tb) = (0.35, 0.5, 0.2);
         let layer = |material, thickness| {

@@ -1,8 +1,10 @@
 //! Membrane theory of a long closed-end tube under internal pressure P: the
 //! uniform state far from the ends, used as Newton's starting point.
 //!
-//! With hoop stretch λ₁, axial stretch λ₂, thickness t = t₀/(λ₁λ₂) and Cauchy
-//! stresses σᵢ = λᵢ ∂W/∂λᵢ, equilibrium of a ring and of the end cap give
+//! With hoop stretch λ₁, axial stretch λ₂, thickness stretch λ₃ (1/(λ₁λ₂)
+//! when incompressible, from σ₃₃ = 0 otherwise: the material condenses it) and
+//! W per reference volume, the membrane tensions per current length are
+//! Tᵢ = t₀ (∂W/∂λᵢ)/λⱼ, and equilibrium of a ring and of the end cap give
 //!
 //!   hoop:  P R₀ / t₀ = (∂W/∂λ₁) / (λ₁ λ₂)
 //!   axial: λ₁ ∂W/∂λ₁ = 2 λ₂ ∂W/∂λ₂
@@ -125,7 +127,7 @@ mod tests {
 
     #[test]
     fn neo_hookean_axial_equation_matches_design_values() {
-        let m = Material::NeoHookean { mu_mpa: 1.0 };
+        let m = Material::incompressible(crate::material::Law::NeoHookean { mu_mpa: 1.0 });
         for (l1, l2) in [(1.5, 1.138601), (2.0, 1.435500), (3.0, 2.124220)] {
             assert!((axial_for_hoop(&m, l1).unwrap() - l2).abs() < 1e-5);
         }

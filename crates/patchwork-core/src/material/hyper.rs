@@ -24,6 +24,10 @@ pub trait Real:
     + Mul<f64, Output = Self>
     + Div<f64, Output = Self>
 {
+    /// Whether the number carries derivatives (`Hyper`) or is a plain value
+    /// (`f64`): a formula that must compute derivatives itself (the
+    /// plane-stress condensation) skips them for plain values.
+    const CARRIES_DERIVATIVES: bool;
     fn constant(value: f64) -> Self;
     fn value(&self) -> f64;
     fn ln(self) -> Self;
@@ -36,6 +40,7 @@ pub trait Real:
 }
 
 impl Real for f64 {
+    const CARRIES_DERIVATIVES: bool = false;
     fn constant(value: f64) -> Self {
         value
     }
@@ -60,6 +65,7 @@ impl Real for f64 {
 }
 
 impl<const N: usize> Real for Hyper<N> {
+    const CARRIES_DERIVATIVES: bool = true;
     fn constant(value: f64) -> Self {
         Hyper::constant(value)
     }
@@ -135,12 +141,11 @@ impl<const N: usize> Hyper<N> {
     }
 
     pub fn powf(self, p: f64) -> Self {
+        // One powf: xᵖ⁻¹ = xᵖ/x (x > 0 wherever a formula takes a real power).
         let x = self.value;
-        self.chain(
-            x.powf(p),
-            p * x.powf(p - 1.0),
-            p * (p - 1.0) * x.powf(p - 2.0),
-        )
+        let y = x.powf(p);
+        let dy = p * y / x;
+        self.chain(y, dy, (p - 1.0) * dy / x)
     }
 
     pub fn powi(self, n: i32) -> Self {

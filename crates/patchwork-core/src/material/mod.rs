@@ -1,10 +1,19 @@
-//! Incompressible hyperelastic membranes (plane stress, thickness stretch
-//! eliminated by incompressibility).
+//! Hyperelastic membranes in plane stress: five strain-energy models, each
+//! incompressible or compressible with a volumetric part as ABAQUS defines it.
 //!
-//! The in-plane right Cauchy–Green tensor C = FᵀF (2×2, components c₁₁, c₂₂, c₁₂)
-//! fixes the thickness stretch λ₃² = 1/det C, hence the 3D invariants
+//! The in-plane right Cauchy–Green tensor C = FᵀF (2×2, components c₁₁, c₂₂,
+//! c₁₂) is what the membrane knows; the through-thickness stretch λ₃ (c₃₃ = λ₃²)
+//! is not a degree of freedom but follows from the plane-stress condition
+//! σ₃₃ = 0:
 //!
-//!   I₁ = c₁₁ + c₂₂ + 1/J,   I₂ = J + (c₁₁ + c₂₂)/J,   J = det C = c₁₁c₂₂ − c₁₂².
+//! - **incompressible**: λ₃² = 1/det C (J = 1), and the 3D invariants are
+//!   I₁ = c₁₁ + c₂₂ + 1/det C, I₂ = det C + (c₁₁ + c₂₂)/det C;
+//! - **compressible**: W(C, c₃₃) = W_dev(Ī₁, Ī₂) + U(J) with J = √(det C · c₃₃),
+//!   Ī₁ = J^(−2/3) I₁, Ī₂ = J^(−4/3) I₂ (ABAQUS's split), and c₃₃ minimises W
+//!   at every evaluation (∂W/∂c₃₃ = 0 is σ₃₃ = 0), by Newton's method on ln c₃₃
+//!   ([`plane_stress`]). The condensed energy W̄(C) = W(C, c₃₃(C)) has the
+//!   exact derivatives ∂W̄/∂C = ∂W/∂C (the envelope theorem) and
+//!   ∂²W̄/∂C² = W_CC − W_C3 W_3C / W_33 (the Schur complement).
 //!
 //! Each model gives W (energy per unit *reference* volume, MPa = N/mm²) as a
 //! function of C. Stress and tangent are the exact derivatives of that one
@@ -13,27 +22,47 @@
 //! line search can use it as a barrier.
 
 pub mod hyper;
+mod json;
 mod models;
-
-use serde::{Deserialize, Serialize};
+mod plane_stress;
+mod thickness;
+mod volumetric;
 
 pub use hyper::Hyper;
+pub use volumetric::Compressibility;
 
-/// A membrane material, as written in design JSON (`{"model": ..., ...}`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
-pub enum Material {
-    /// W = μ/2 (I₁ − 3).
+/// A membrane material, as written in design JSON:
+/// `{"model": ..., <the model's parameters>, <its compressibility>}` where the
+/// compressibility is one of `"bulk_ratio": K₀/μ₀`, `"d": D₁` (ABAQUS's D₁ in
+/// 1/MPa, K₀ = 2/D₁) or `"incompressible": true`, the default when none is given. The authors'
+/// ABAQUS/Explicit model is compressible: given D = 0, ABAQUS/Explicit takes
+/// K₀/μ₀ = 20 (`"bulk_ratio": 20`, [`Compressibility::abaqus_explicit`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    pub law: Law,
+    pub compressibility: Compressibility,
+}
+
+/// The strain-energy model (the deviatoric part when compressible), in the
+/// deviatoric invariants Ī₁, Ī₂ (equal to I₁, I₂ when incompressible).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Law {
+    /// W = μ/2 (Ī₁ − 3); U = Σ (1/Dᵢ)(J − 1)^(2i) (one term).
     NeoHookean { mu_mpa: f64 },
-    /// W = C₁₀ (I₁ − 3) + C₀₁ (I₂ − 3).
+    /// W = C₁₀ (Ī₁ − 3) + C₀₁ (Ī₂ − 3); U = (1/D₁)(J − 1)².
     MooneyRivlin { c10_mpa: f64, c01_mpa: f64 },
-    /// W = −μ Jm/2 · ln(1 − (I₁ − 3)/Jm); locks as I₁ − 3 → Jm (Gent 1996).
+    /// W = −μ Jm/2 · ln(1 − (Ī₁ − 3)/Jm); locks as Ī₁ − 3 → Jm (Gent 1996).
+    /// ABAQUS has no built-in Gent model; its volumetric part here is
+    /// Arruda–Boyce's, U = (1/D)((J² − 1)/2 − ln J), which stays finite
+    /// and convex for every J > 0.
     Gent { mu_mpa: f64, jm: f64 },
     /// Arruda–Boyce eight-chain model, the usual five-term series:
-    /// W = μ Σᵢ₌₁⁵ αᵢ / λm^(2i−2) · (I₁ⁱ − 3ⁱ), α = 1/2, 1/20, 11/1050, 19/7000,
-    /// 519/673750 (as in ABAQUS).
+    /// W = μ Σᵢ₌₁⁵ αᵢ / λm^(2i−2) · (Ī₁ⁱ − 3ⁱ), α = 1/2, 1/20, 11/1050, 19/7000,
+    /// 519/673750; U = (1/D)((J² − 1)/2 − ln J) (as in ABAQUS).
     ArrudaBoyce { mu_mpa: f64, lambda_m: f64 },
-    /// W = Σₚ μₚ/αₚ (λ₁^αₚ + λ₂^αₚ + λ₃^αₚ − 3) in principal stretches.
+    /// W = Σₚ μₚ/αₚ (λ̄₁^αₚ + λ̄₂^αₚ + λ̄₃^αₚ − 3) in the deviatoric principal
+    /// stretches λ̄ᵢ = J^(−1/3) λᵢ; U = Σᵢ (1/Dᵢ)(J − 1)^(2i). (ABAQUS writes
+    /// the first sum with 2μₚ/αₚ²; here μ₀ = ½ Σ μₚαₚ.)
     Ogden { mu_mpa: Vec<f64>, alpha: Vec<f64> },
 }
 
@@ -63,37 +92,72 @@ impl Response {
 }
 
 impl Material {
-    /// The authors' balloon latex: Arruda–Boyce, μ = 0.317 MPa, λm = 2.3.
-    pub fn reference_balloon() -> Material {
-        Material::ArrudaBoyce {
-            mu_mpa: 0.317,
-            lambda_m: 2.3,
+    /// A material with the given compressibility.
+    pub fn compressible(law: Law, compressibility: Compressibility) -> Material {
+        Material {
+            law,
+            compressibility,
         }
     }
 
-    /// The authors' patch (latex-infused spandex): neo-Hookean, C₁₀ = 0.65 MPa.
+    /// An incompressible material (J = 1).
+    pub fn incompressible(law: Law) -> Material {
+        Material {
+            law,
+            compressibility: Compressibility::Incompressible,
+        }
+    }
+
+    /// The same model with another compressibility.
+    pub fn with_compressibility(mut self, compressibility: Compressibility) -> Material {
+        self.compressibility = compressibility;
+        self
+    }
+
+    /// The authors' balloon latex (their `Run.py`): Arruda–Boyce, μ = 0.317
+    /// MPa, λm = 2.3, taken incompressible. Their ABAQUS/Explicit model has
+    /// D = 0, which it takes as K₀/μ₀ = 20:
+    /// `.with_compressibility(Compressibility::abaqus_explicit())`.
+    pub fn reference_balloon() -> Material {
+        Material::incompressible(Law::ArrudaBoyce {
+            mu_mpa: 0.317,
+            lambda_m: 2.3,
+        })
+    }
+
+    /// The authors' patch (latex-infused spandex): neo-Hookean, C₁₀ = 0.65 MPa,
+    /// taken incompressible (D₁ = 0 in their model: K₀/μ₀ = 20 in
+    /// ABAQUS/Explicit).
     pub fn reference_patch() -> Material {
-        Material::NeoHookean { mu_mpa: 1.3 }
+        Material::incompressible(Law::NeoHookean { mu_mpa: 1.3 })
     }
 
     pub fn model_name(&self) -> &'static str {
-        match self {
-            Material::NeoHookean { .. } => "neo_hookean",
-            Material::MooneyRivlin { .. } => "mooney_rivlin",
-            Material::Gent { .. } => "gent",
-            Material::ArrudaBoyce { .. } => "arruda_boyce",
-            Material::Ogden { .. } => "ogden",
-        }
+        self.law.name()
     }
 
     /// Checks every parameter; the error names the field.
     pub fn validate(&self) -> Result<(), MaterialError> {
-        models::validate(self)
+        models::validate(&self.law)?;
+        volumetric::validate(&self.law, &self.compressibility)
     }
 
-    /// Small-strain shear modulus (MPa).
+    /// Small-strain shear modulus μ₀ (MPa).
     pub fn shear_modulus(&self) -> f64 {
-        models::shear_modulus(self)
+        models::shear_modulus(&self.law)
+    }
+
+    /// Small-strain bulk modulus K₀ = 2/D₁ (MPa); +∞ when incompressible.
+    pub fn bulk_modulus(&self) -> f64 {
+        match self.volumetric() {
+            Some(u) => u.bulk_modulus(),
+            None => f64::INFINITY,
+        }
+    }
+
+    /// The volumetric part, `None` when incompressible.
+    fn volumetric(&self) -> Option<volumetric::Volumetric> {
+        volumetric::Volumetric::of(&self.law, &self.compressibility)
     }
 
     /// W(C) with exact derivatives.
@@ -103,13 +167,13 @@ impl Material {
             Hyper::variable(c[1], 1),
             Hyper::variable(c[2], 2),
         ];
-        match models::energy(self, vars) {
-            Some(w) if w.value.is_finite() => Response {
+        match self.energy_in(vars) {
+            Some(w) => Response {
                 energy: w.value,
                 gradient: w.gradient,
                 hessian: w.hessian,
             },
-            _ => Response {
+            None => Response {
                 energy: f64::INFINITY,
                 gradient: [0.0; 3],
                 hessian: [[0.0; 3]; 3],
@@ -121,15 +185,26 @@ impl Material {
     /// variables (a laminate's phases) gets W's derivatives in those variables.
     /// `None` outside the domain.
     pub fn energy_in<T: hyper::Real>(&self, c: [T; 3]) -> Option<T> {
-        models::energy(self, c).filter(|w| hyper::Real::value(w).is_finite())
+        let w = match self.volumetric() {
+            None => models::incompressible(&self.law, c),
+            Some(u) => plane_stress::condensed(&self.law, &u, c),
+        };
+        w.filter(|w| hyper::Real::value(w).is_finite())
     }
 
     /// W only, in plain `f64` arithmetic (the line search's hot path); +∞
     /// outside the domain.
     pub fn energy(&self, c: [f64; 3]) -> f64 {
-        match models::energy(self, c) {
-            Some(w) if w.is_finite() => w,
-            _ => f64::INFINITY,
+        self.energy_in(c).unwrap_or(f64::INFINITY)
+    }
+
+    /// The thickness stretch λ₃ at in-plane C (from σ₃₃ = 0), `None` outside
+    /// the domain.
+    pub fn thickness_stretch(&self, c: [f64; 3]) -> Option<f64> {
+        let det = c[0] * c[1] - c[2] * c[2];
+        match self.volumetric() {
+            None => (det > 0.0).then(|| det.powf(-0.5)),
+            Some(u) => plane_stress::thickness_c33(&self.law, &u, c).map(f64::sqrt),
         }
     }
 
@@ -138,5 +213,17 @@ impl Material {
     pub fn principal(&self, l1: f64, l2: f64) -> (f64, f64, f64) {
         let r = self.response([l1 * l1, l2 * l2, 0.0]);
         (r.energy, 2.0 * l1 * r.gradient[0], 2.0 * l2 * r.gradient[1])
+    }
+}
+
+impl Law {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Law::NeoHookean { .. } => "neo_hookean",
+            Law::MooneyRivlin { .. } => "mooney_rivlin",
+            Law::Gent { .. } => "gent",
+            Law::ArrudaBoyce { .. } => "arruda_boyce",
+            Law::Ogden { .. } => "ogden",
+        }
     }
 }

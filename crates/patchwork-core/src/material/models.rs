@@ -1,7 +1,7 @@
-//! The strain-energy formulas (see the variants of [`Material`] for each W).
+//! The strain-energy formulas (see the variants of [`Law`] for each W).
 
 use super::hyper::Real;
-use super::{Material, MaterialError};
+use super::{Law, MaterialError};
 
 /// Arruda–Boyce series coefficients αᵢ (ABAQUS Theory Manual, eight-chain model).
 const ARRUDA_BOYCE: [f64; 5] = [
@@ -17,29 +17,78 @@ const ARRUDA_BOYCE: [f64; 5] = [
 /// divides by √q, which is singular at equal stretches (the reference state).
 const OGDEN_SERIES_GAP: f64 = 1e-6;
 
-/// W(C), or `None` outside the physical domain.
-pub(super) fn energy<T: Real>(material: &Material, c: [T; 3]) -> Option<T> {
+/// W(C) of the incompressible material (c₃₃ = 1/det C, J = 1), or `None`
+/// outside the physical domain.
+pub(super) fn incompressible<T: Real>(model: &Law, c: [T; 3]) -> Option<T> {
     let [c11, c22, c12] = c;
-    let j = c11 * c22 - c12 * c12;
-    if !(j.value() > 0.0 && c11.value() > 0.0 && c22.value() > 0.0) {
+    let det = c11 * c22 - c12 * c12;
+    if !(det.value() > 0.0 && c11.value() > 0.0 && c22.value() > 0.0) {
         return None;
     }
+    let c33 = T::constant(1.0) / det;
+    deviatoric(model, c, c33, None)
+}
+
+/// W_dev at in-plane C and thickness c₃₃ = λ₃², in the deviatoric invariants
+/// Ī₁ = J^(−2/3) I₁, Ī₂ = J^(−4/3) I₂ with I₁ = c₁₁ + c₂₂ + c₃₃ and
+/// I₂ = det C + (c₁₁ + c₂₂) c₃₃; `j` = J, or `None` when J = 1 (incompressible,
+/// where the plain invariants are the deviatoric ones). `None` outside the
+/// domain (a locking limit). The caller has checked det C > 0 and c₃₃ > 0.
+pub(super) fn deviatoric<T: Real>(model: &Law, c: [T; 3], c33: T, j: Option<T>) -> Option<T> {
+    let [c11, c22, c12] = c;
     let trace = c11 + c22;
-    let i1 = trace + T::constant(1.0) / j;
-    match material {
-        Material::NeoHookean { mu_mpa } => Some((i1 - 3.0) * (0.5 * mu_mpa)),
-        Material::MooneyRivlin { c10_mpa, c01_mpa } => {
-            let i2 = j + trace / j;
-            Some((i1 - 3.0) * *c10_mpa + (i2 - 3.0) * *c01_mpa)
+    let scale = |power: f64, x: T| match j {
+        Some(j) => x * j.powf(power),
+        None => x,
+    };
+    let i1 = || scale(-2.0 / 3.0, trace + c33);
+    match model {
+        Law::NeoHookean { mu_mpa } => Some((i1() - 3.0) * (0.5 * mu_mpa)),
+        Law::MooneyRivlin { c10_mpa, c01_mpa } => {
+            let i2 = scale(-4.0 / 3.0, c11 * c22 - c12 * c12 + trace * c33);
+            Some((i1() - 3.0) * *c10_mpa + (i2 - 3.0) * *c01_mpa)
         }
-        Material::Gent { mu_mpa, jm } => {
-            let argument = T::constant(1.0) - (i1 - 3.0) / *jm;
+        Law::Gent { mu_mpa, jm } => {
+            let argument = T::constant(1.0) - (i1() - 3.0) / *jm;
             (argument.value() > 0.0).then(|| argument.ln() * (-0.5 * mu_mpa * jm))
         }
-        Material::ArrudaBoyce { mu_mpa, lambda_m } => {
-            // W(I₁) and its first two derivatives in plain arithmetic, then one
+        Law::ArrudaBoyce { .. } => {
+            // W(Ī₁) and its first two derivatives in plain arithmetic, then one
             // chain-rule step: far cheaper than the series on AD numbers.
-            let x = i1.value();
+            let i1 = i1();
+            let (w, dw, d2w) = i1_energy(model, i1.value())?;
+            Some(i1.apply(w, dw, d2w))
+        }
+        Law::Ogden { mu_mpa, alpha } => {
+            let half_trace = trace * 0.5;
+            let half_gap = (c11 - c22) * 0.5;
+            let q = half_gap * half_gap + c12 * c12;
+            let mut w = T::constant(0.0);
+            for (mu, a) in mu_mpa.iter().zip(alpha) {
+                let p = a / 2.0;
+                let sum = symmetric_power_sum(half_trace, q, p) + c33.powf(p);
+                w = w + (scale(-a / 3.0, sum) - 3.0) * (mu / a);
+            }
+            Some(w)
+        }
+    }
+}
+
+/// W(Ī₁) with dW/dĪ₁ and d²W/dĪ₁² for the laws that depend on Ī₁ alone
+/// (the Ī₁ part of Mooney–Rivlin too); `None` for Ogden, or past Gent's lock.
+pub(super) fn i1_energy(model: &Law, x: f64) -> Option<(f64, f64, f64)> {
+    match model {
+        Law::NeoHookean { mu_mpa } => Some((0.5 * mu_mpa * (x - 3.0), 0.5 * mu_mpa, 0.0)),
+        Law::MooneyRivlin { c10_mpa, .. } => Some((c10_mpa * (x - 3.0), *c10_mpa, 0.0)),
+        Law::Gent { mu_mpa, jm } => {
+            let argument = 1.0 - (x - 3.0) / jm;
+            (argument > 0.0).then(|| {
+                let w = -0.5 * mu_mpa * jm * argument.ln();
+                let dw = 0.5 * mu_mpa / argument;
+                (w, dw, dw / (jm * argument))
+            })
+        }
+        Law::ArrudaBoyce { mu_mpa, lambda_m } => {
             let (mut w, mut dw, mut d2w) = (0.0, 0.0, 0.0);
             for (k, alpha) in ARRUDA_BOYCE.iter().enumerate() {
                 let i = k as i32 + 1;
@@ -49,27 +98,15 @@ pub(super) fn energy<T: Real>(material: &Material, c: [T; 3]) -> Option<T> {
                 dw += scale * fi * x.powi(i - 1);
                 d2w += scale * fi * (fi - 1.0) * x.powi(i - 2);
             }
-            Some(i1.apply(w, dw, d2w))
+            Some((w, dw, d2w))
         }
-        Material::Ogden { mu_mpa, alpha } => {
-            let half_trace = trace * 0.5;
-            let half_gap = (c11 - c22) * 0.5;
-            let q = half_gap * half_gap + c12 * c12;
-            let mut w = T::constant(0.0);
-            for (mu, a) in mu_mpa.iter().zip(alpha) {
-                let p = a / 2.0;
-                let in_plane = symmetric_power_sum(half_trace, q, p);
-                let thickness = j.powf(-p);
-                w = w + (in_plane + thickness - 3.0) * (mu / a);
-            }
-            Some(w)
-        }
+        Law::Ogden { .. } => None,
     }
 }
 
 /// e₁ᵖ + e₂ᵖ for the eigenvalues e = m ± √q of a symmetric 2×2 matrix, smooth
 /// through q = 0: there f(m+d) + f(m−d) = 2f(m) + f″(m) q + f⁗(m) q²/12 + O(q³).
-fn symmetric_power_sum<T: Real>(m: T, q: T, p: f64) -> T {
+pub(super) fn symmetric_power_sum<T: Real>(m: T, q: T, p: f64) -> T {
     if q.value() > OGDEN_SERIES_GAP * OGDEN_SERIES_GAP * m.value() * m.value() {
         let d = q.sqrt();
         (m + d).powf(p) + (m - d).powf(p)
@@ -80,12 +117,12 @@ fn symmetric_power_sum<T: Real>(m: T, q: T, p: f64) -> T {
     }
 }
 
-pub(super) fn shear_modulus(material: &Material) -> f64 {
-    match material {
-        Material::NeoHookean { mu_mpa } => *mu_mpa,
-        Material::MooneyRivlin { c10_mpa, c01_mpa } => 2.0 * (c10_mpa + c01_mpa),
-        Material::Gent { mu_mpa, .. } => *mu_mpa,
-        Material::ArrudaBoyce { mu_mpa, lambda_m } => {
+pub(super) fn shear_modulus(model: &Law) -> f64 {
+    match model {
+        Law::NeoHookean { mu_mpa } => *mu_mpa,
+        Law::MooneyRivlin { c10_mpa, c01_mpa } => 2.0 * (c10_mpa + c01_mpa),
+        Law::Gent { mu_mpa, .. } => *mu_mpa,
+        Law::ArrudaBoyce { mu_mpa, lambda_m } => {
             // μ₀ = 2 ∂W/∂I₁ at I₁ = 3.
             let series: f64 = ARRUDA_BOYCE
                 .iter()
@@ -97,14 +134,14 @@ pub(super) fn shear_modulus(material: &Material) -> f64 {
                 .sum();
             2.0 * mu_mpa * series
         }
-        Material::Ogden { mu_mpa, alpha } => {
+        Law::Ogden { mu_mpa, alpha } => {
             0.5 * mu_mpa.iter().zip(alpha).map(|(m, a)| m * a).sum::<f64>()
         }
     }
 }
 
-pub(super) fn validate(material: &Material) -> Result<(), MaterialError> {
-    let model = material.model_name();
+pub(super) fn validate(material: &Law) -> Result<(), MaterialError> {
+    let model = material.name();
     let fail = |field, value, reason| {
         Err(MaterialError {
             model,
@@ -121,26 +158,26 @@ pub(super) fn validate(material: &Material) -> Result<(), MaterialError> {
         }
     };
     match material {
-        Material::NeoHookean { mu_mpa } => positive("mu_mpa", *mu_mpa),
-        Material::MooneyRivlin { c10_mpa, c01_mpa } => {
+        Law::NeoHookean { mu_mpa } => positive("mu_mpa", *mu_mpa),
+        Law::MooneyRivlin { c10_mpa, c01_mpa } => {
             positive("c10_mpa", *c10_mpa)?;
             if !(c01_mpa.is_finite() && *c01_mpa >= 0.0) {
                 return fail("c01_mpa", *c01_mpa, "must be finite and non-negative");
             }
             Ok(())
         }
-        Material::Gent { mu_mpa, jm } => {
+        Law::Gent { mu_mpa, jm } => {
             positive("mu_mpa", *mu_mpa)?;
             positive("jm", *jm)
         }
-        Material::ArrudaBoyce { mu_mpa, lambda_m } => {
+        Law::ArrudaBoyce { mu_mpa, lambda_m } => {
             positive("mu_mpa", *mu_mpa)?;
             if !(lambda_m.is_finite() && *lambda_m > 1.0) {
                 return fail("lambda_m", *lambda_m, "must be finite and greater than 1");
             }
             Ok(())
         }
-        Material::Ogden { mu_mpa, alpha } => {
+        Law::Ogden { mu_mpa, alpha } => {
             if mu_mpa.is_empty() || mu_mpa.len() != alpha.len() || mu_mpa.len() > 6 {
                 return fail(
                     "alpha",

@@ -1,0 +1,144 @@
+//! The volumetric part U(J) of a compressible material, as ABAQUS defines it
+//! for each model (ABAQUS Theory Manual, "Hyperelastic material behavior"):
+//!
+//! - polynomial forms (neo-Hookean, Mooney–Rivlin) and Ogden:
+//!   U = Σᵢ (1/Dᵢ)(J − 1)^(2i);
+//! - Arruda–Boyce (and Gent here): U = (1/D)((J² − 1)/2 − ln J).
+//!
+//! Both give the initial bulk modulus K₀ = 2/D₁. ABAQUS/Explicit, which cannot
+//! impose incompressibility, takes D = 0 as K₀/μ₀ = 20 (Poisson's ratio
+//! ν₀ = (3K₀/μ₀ − 2)/(6K₀/μ₀ + 2) = 0.475): that is the authors' balloon.
+
+use super::hyper::Real;
+use super::{Law, MaterialError, models};
+
+/// K₀/μ₀ that ABAQUS/Explicit assumes for a hyperelastic material given D = 0.
+pub const ABAQUS_EXPLICIT_BULK_RATIO: f64 = 20.0;
+
+/// How a material resists a change of volume.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Compressibility {
+    /// J = 1 exactly.
+    Incompressible,
+    /// K₀/μ₀, the initial bulk to shear modulus ratio (D₁ = 2/(K₀/μ₀ · μ₀)).
+    BulkRatio(f64),
+    /// ABAQUS's D₁ (1/MPa): K₀ = 2/D₁.
+    D(f64),
+}
+
+impl Compressibility {
+    /// ABAQUS/Explicit's assumption for a hyperelastic material given D = 0,
+    /// K₀/μ₀ = 20: the authors' balloon and patch.
+    pub fn abaqus_explicit() -> Compressibility {
+        Compressibility::BulkRatio(ABAQUS_EXPLICIT_BULK_RATIO)
+    }
+}
+
+/// U(J) resolved for one material: its form and its Dᵢ (one term as the
+/// JSON states it; the polynomial form takes more).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Volumetric {
+    logarithmic: bool,
+    d: Vec<f64>,
+}
+
+impl Volumetric {
+    /// `None` when incompressible.
+    pub(super) fn of(model: &Law, compressibility: &Compressibility) -> Option<Volumetric> {
+        let d = match compressibility {
+            Compressibility::Incompressible => return None,
+            Compressibility::BulkRatio(ratio) => {
+                vec![2.0 / (ratio * models::shear_modulus(model))]
+            }
+            Compressibility::D(d) => vec![*d],
+        };
+        let logarithmic = matches!(model, Law::ArrudaBoyce { .. } | Law::Gent { .. });
+        Some(Volumetric { logarithmic, d })
+    }
+
+    /// K₀ = 2/D₁ (MPa).
+    pub(super) fn bulk_modulus(&self) -> f64 {
+        2.0 / self.d[0]
+    }
+
+    /// U(J); J > 0 is the caller's.
+    pub(super) fn energy<T: Real>(&self, j: T) -> T {
+        if self.logarithmic {
+            return ((j * j - 1.0) * 0.5 - j.ln()) / self.d[0];
+        }
+        let excess = (j - 1.0) * (j - 1.0);
+        let mut power = excess;
+        let mut u = T::constant(0.0);
+        for d in &self.d {
+            u = u + power / *d;
+            power = power * excess;
+        }
+        u
+    }
+}
+
+impl Volumetric {
+    /// U, dU/dy, d²U/dy² at y = ln J, given J.
+    pub(super) fn along_ln_j(&self, j: f64) -> (f64, f64, f64) {
+        if self.logarithmic {
+            let d = self.d[0];
+            return (
+                ((j * j - 1.0) * 0.5 - j.ln()) / d,
+                (j * j - 1.0) / d,
+                2.0 * j * j / d,
+            );
+        }
+        // (J − 1)^(2i): d/dy = J d/dJ.
+        let x = j - 1.0;
+        let (mut u, mut du, mut d2u) = (0.0, 0.0, 0.0);
+        for (k, d) in self.d.iter().enumerate() {
+            let n = 2 * (k as i32 + 1);
+            let nf = n as f64;
+            let (p, p1, p2) = (
+                x.powi(n),
+                nf * x.powi(n - 1),
+                nf * (nf - 1.0) * x.powi(n - 2),
+            );
+            u += p / d;
+            du += j * p1 / d;
+            d2u += (j * j * p2 + j * p1) / d;
+        }
+        (u, du, d2u)
+    }
+}
+
+pub(super) fn validate(
+    model: &Law,
+    compressibility: &Compressibility,
+) -> Result<(), MaterialError> {
+    let fail = |field, value, reason| {
+        Err(MaterialError {
+            model: model.name(),
+            field,
+            value,
+            reason,
+        })
+    };
+    match compressibility {
+        Compressibility::Incompressible => Ok(()),
+        Compressibility::BulkRatio(ratio) => {
+            // K₀/μ₀ ≥ 1 (Poisson's ratio ≥ 0.125): rubbers lie far above it.
+            if ratio.is_finite() && (1.0..=1e6).contains(ratio) {
+                Ok(())
+            } else {
+                fail(
+                    "bulk_ratio",
+                    *ratio,
+                    "must be within 1 to 1e6 (rubber: about 20 to 1e4; use incompressible above)",
+                )
+            }
+        }
+        Compressibility::D(d) => {
+            if d.is_finite() && *d > 0.0 && *d <= 1e6 {
+                Ok(())
+            } else {
+                fail("d", *d, "must be positive and at most 1e6 1/MPa")
+            }
+        }
+    }
+}
