@@ -17,10 +17,14 @@ use super::Law;
 use super::models::{i1_energy, symmetric_power_sum};
 use super::volumetric::Volumetric;
 
-/// Newton's step below which the iterate is taken as converged: the error
-/// left after such a step is of order its square (quadratic convergence),
-/// below rounding; a tighter test only chases the rounding of ∂W/∂y.
-const FINAL_STEP: f64 = 1e-7;
+/// Newton's step in ln J below which the iterate is converged. The membrane's
+/// stress inherits the thickness's error times a bulk-modulus-sized factor:
+/// at 1e-7 the FE residual stalled near 2e-9 (its tolerance is 1e-9), so the
+/// solve goes to rounding. Where rounding stops the steps from shrinking
+/// (a small step not half the previous one), the iterate is taken as it is.
+const FINAL_STEP: f64 = 1e-12;
+/// Steps below this are in the rounding-limited regime.
+const SMALL_STEP: f64 = 1e-7;
 /// Most Newton iterations; from J = 1 the reference materials take 3–6.
 const MAX_ITERATIONS: usize = 60;
 /// Largest step in ln J.
@@ -115,7 +119,11 @@ pub(super) fn solve(law: &Law, u: &Volumetric, c: [f64; 3]) -> Option<(f64, f64)
     let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
     let mut y = 0.0;
     let mut w = along(law, u, &c, y)?;
+    let mut previous = f64::INFINITY;
     for _ in 0..MAX_ITERATIONS {
+        if w.1 == 0.0 {
+            return Some((y, w.0));
+        }
         if w.1 < 0.0 {
             lo = y
         } else {
@@ -126,11 +134,20 @@ pub(super) fn solve(law: &Law, u: &Volumetric, c: [f64; 3]) -> Option<(f64, f64)
         } else {
             -w.1.signum() * MAX_STEP
         };
+        // A step at rounding level: y is the root (stepping could only land
+        // on the bracket's end and set off a bisection).
+        if step.abs() < FINAL_STEP * (1.0 + y.abs()) {
+            return Some((y, w.0));
+        }
         let mut next = y + step.clamp(-MAX_STEP, MAX_STEP);
         if !(next > lo && next < hi) && lo.is_finite() && hi.is_finite() {
             next = 0.5 * (lo + hi);
         }
-        let converged = (next - y).abs() < FINAL_STEP || hi - lo < FINAL_STEP * FINAL_STEP;
+        let size = (next - y).abs();
+        let converged = size < FINAL_STEP * (1.0 + y.abs())
+            || (size < SMALL_STEP && size > 0.5 * previous)
+            || hi - lo < FINAL_STEP;
+        previous = size;
         // Past a locking limit (Gent) the energy is infinite: step back.
         let mut tries = 0;
         w = loop {
