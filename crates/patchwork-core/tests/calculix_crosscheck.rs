@@ -33,7 +33,7 @@ use patchwork_core::curve::{Point, bend_and_twist};
 use patchwork_core::design::{Balloon, Bonding, Design, Patch, PatchSpec};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
-use patchwork_core::material::{Law, Material};
+use patchwork_core::material::{Compressibility, Law, Material};
 
 const RADIUS: f64 = 3.18;
 const WALL: f64 = 0.183;
@@ -47,7 +47,7 @@ const CCX_AROUND: usize = 16;
 const PATCHWORK_MM: f64 = 0.25;
 const TOLERANCE: f64 = 0.05;
 
-fn tube(length: f64) -> calculix::Tube {
+fn tube(length: f64, bulk_ratio: Option<f64>) -> calculix::Tube {
     calculix::Tube {
         length,
         radius: RADIUS,
@@ -55,20 +55,30 @@ fn tube(length: f64) -> calculix::Tube {
         wall_mu: WALL_MU,
         patch_mu_t: PATCH_MU * PATCH_T,
         pressure_mpa: PRESSURE_KPA * 1e-3,
+        bulk_ratio: bulk_ratio.unwrap_or(1000.0),
     }
 }
 
-fn design(length: f64, patch: Patch) -> Design {
+/// Patchwork's scene: incompressible neo-Hookean materials, or compressible
+/// at K/μ = `bulk_ratio` (ccx's law with the same K/μ).
+fn design(length: f64, patch: Patch, bulk_ratio: Option<f64>) -> Design {
+    let material = |mu_mpa| {
+        let law = Law::NeoHookean { mu_mpa };
+        match bulk_ratio {
+            Some(r) => Material::compressible(law, Compressibility::BulkRatio(r)),
+            None => Material::incompressible(law),
+        }
+    };
     Design {
         balloon: Balloon {
             length_mm: length,
             radius_mm: RADIUS,
             wall_mm: WALL,
-            material: Material::incompressible(Law::NeoHookean { mu_mpa: WALL_MU }),
+            material: material(WALL_MU),
         },
         patch: PatchSpec {
             thickness_mm: PATCH_T,
-            material: Material::incompressible(Law::NeoHookean { mu_mpa: PATCH_MU }),
+            material: material(PATCH_MU),
             bonding: Bonding::Replace,
         },
         pressure_kpa: PRESSURE_KPA,
@@ -89,6 +99,8 @@ struct Case {
     length: f64,
     patch: Patch,
     shear_deg: f64,
+    /// K/μ of both materials; `None`: incompressible (ccx: K = 1000 μ).
+    bulk_ratio: Option<f64>,
 }
 
 /// A 40 mm tube with an axial patch of two element columns by twelve rings
@@ -107,6 +119,7 @@ fn axial_case() -> Case {
             theta_deg: 0.0,
         },
         shear_deg: 0.0,
+        bulk_ratio: None,
     }
 }
 
@@ -132,6 +145,7 @@ fn helical_case() -> Case {
             theta_deg: theta,
         },
         shear_deg: theta,
+        bulk_ratio: None,
     }
 }
 
@@ -161,7 +175,8 @@ fn patchwork(case: &Case, element_mm: f64) -> Answer {
         mesh: MeshSpec::uniform(element_mm),
         ..SimulateOptions::default()
     };
-    let sim = simulate(&design(case.length, case.patch), &options).expect("Patchwork converges");
+    let sim = simulate(&design(case.length, case.patch, case.bulk_ratio), &options)
+        .expect("Patchwork converges");
     assert!(sim.stats.stable);
     let tip = sim.mesh.ring_y.len() - 1;
     let ring = tip * sim.mesh.around..(tip + 1) * sim.mesh.around;
@@ -197,7 +212,7 @@ fn calculix(case: &Case, around: usize) -> Option<Answer> {
         around,
         shear_deg: case.shear_deg,
     };
-    let run = calculix::run(&dir, &tube(case.length), &mesh, &case.patch).unwrap_or_else(|e| {
+    let run = calculix::run(&dir, &tube(case.length, case.bulk_ratio), &mesh, &case.patch).unwrap_or_else(|e| {
         panic!(
             "CalculiX run failed: {e}\n(install it with `apt-get install calculix-ccx`, as .ci/run does, \
              or set PATCHWORK_SKIP_CALCULIX=1 to skip this cross-check)"
@@ -280,6 +295,37 @@ fn an_axial_patch_bends_the_tube_as_in_calculix() {
     );
     // By symmetry neither code twists an axial patch.
     assert!(ccx.twist_deg.abs() < 0.01 && ours.twist_deg.abs() < 0.01);
+}
+
+/// The axial case on compressible materials, K/μ = 20 (the authors'
+/// ABAQUS/Explicit value): ccx's 3D neo-Hookean law with that bulk modulus in
+/// its shells against Patchwork's plane-stress condensation. The tube
+/// inflates and lengthens about 45 % more than the incompressible one in both
+/// codes, and the tip's elongation agrees (0.367 against ccx's 0.366 mm). The
+/// bend does not yet: Patchwork 1.285°, ccx 1.148° at 16 elements round and
+/// 1.037° at 32 (ccx moves away under refinement, where incompressible it
+/// moves by 1 %); until that is explained, only the inflation is asserted.
+#[test]
+fn a_compressible_tube_inflates_as_in_calculix() {
+    let case = Case {
+        name: "axial-compressible",
+        bulk_ratio: Some(20.0),
+        ..axial_case()
+    };
+    let Some(ccx) = calculix(&case, CCX_AROUND) else {
+        return;
+    };
+    let ours = patchwork(&case, PATCHWORK_MM);
+    report(&case, &ccx, &ours);
+    // The patch area, and the tip's elongation within 5 %.
+    assert_same_problem(&case, &ccx, &ours);
+    let incompressible = patchwork(&axial_case(), PATCHWORK_MM);
+    assert!(
+        ours.elongation_mm > 1.3 * incompressible.elongation_mm,
+        "the compressible wall lengthens more: {} against {} mm",
+        ours.elongation_mm,
+        incompressible.elongation_mm
+    );
 }
 
 /// Richardson extrapolation of a quantity computed on three meshes, each

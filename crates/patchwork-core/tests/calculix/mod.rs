@@ -5,7 +5,8 @@
 //! The model is deliberately built from different parts than Patchwork's:
 //! 8-node quadratic shells (S8R, S6 at the pole) instead of linear membrane
 //! triangles, ccx's own neo-Hookean law (`*HYPERELASTIC, NEO HOOKE`, nearly
-//! incompressible, K = 1000 μ) instead of the plane-stress closed form, its
+//! incompressible at K = 1000 μ, or compressible at a given K/μ) instead of the
+//! plane-stress closed form, its
 //! follower pressure and load incrementation. The patch "replaces" the wall in
 //! every element whose centroid lies in the patch rectangle; the patch sections
 //! keep the wall's thickness and carry the patch's membrane stiffness μ_p·t_p
@@ -37,6 +38,8 @@ pub struct Tube {
     /// Patch membrane stiffness μ_p·t_p (N/mm).
     pub patch_mu_t: f64,
     pub pressure_mpa: f64,
+    /// K/μ of both materials (1000: nearly incompressible).
+    pub bulk_ratio: f64,
 }
 
 /// The structured shell mesh and what the run needs from it.
@@ -207,7 +210,7 @@ fn input_deck(tube: &Tube, model: &Model) -> String {
         ("STIFF", tube.patch_mu_t / tube.wall),
     ] {
         // ccx's neo-Hooke: W = C10 (Ī₁ − 3) + (J − 1)²/D1, C10 = μ/2, D1 = 2/K.
-        let bulk = 1000.0 * mu;
+        let bulk = tube.bulk_ratio * mu;
         let _ = writeln!(
             deck,
             "*MATERIAL,NAME={name}\n*HYPERELASTIC,NEO HOOKE\n{:.9e},{:.9e}",
