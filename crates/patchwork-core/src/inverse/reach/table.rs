@@ -22,7 +22,7 @@ use crate::fe::{SimulateError, SimulateOptions, Simulation};
 use super::super::caches::Caches;
 use super::super::variables::VariableBounds;
 use super::helix::HelixFit;
-use super::measure::{analysed, bends};
+use super::measure::{analysed_smooth, bends};
 
 /// Patch angles of the table (degrees, up to the bounds' limit).
 const ANGLES_DEG: [f64; 7] = [0.0, 10.0, 20.0, 30.0, 45.0, 60.0, 75.0];
@@ -199,7 +199,7 @@ fn peak_bend(design: &Design, simulation: &Simulation, bend_mm: f64) -> f64 {
     let stretch = centreline.length() / design.balloon.length_mm;
     let middle = 0.5 * centreline.length();
     let half = design.patches[0].axial_half_extent() * stretch;
-    let analysis = analysed(centreline, bend_mm);
+    let analysis = analysed_smooth(centreline, bend_mm);
     bends(&analysis, bend_mm)
         .into_iter()
         .zip(&analysis.s)
