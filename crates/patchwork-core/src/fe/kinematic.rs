@@ -33,7 +33,8 @@ pub fn kinematic_state(
 ) -> Vec<Point> {
     let r0 = mesh.radius;
     let c = mesh.circumference();
-    let (wall, patch) = (1.0, patch_stiffness(design, state));
+    let wall = design.balloon.material.shear_modulus() * design.balloon.wall_mm;
+    let patch = design.patch.material.shear_modulus() * design.patch.thickness_mm;
     let (mut centre, mut frame) = (Point::zeros(), Rotation3::identity());
     let mut rings = Vec::with_capacity(mesh.ring_y.len());
     let mut previous_y = 0.0;
@@ -75,70 +76,6 @@ pub fn kinematic_state(
             }
         })
         .collect()
-}
-
-/// The axial secant stiffness of the wall where a patch is — the patch for
-/// `Replace`, wall and patch for `Laminate`, in excess of the wall's — relative
-/// to the bare wall's: (λ₂ − 1)/(λ₂ₚ − 1) − [laminate: 1], where λ₂ₚ is the
-/// axial stretch of a patched strip carrying the bare wall's membrane forces
-/// (per reference length, hoop and axial) at the tube's state. The materials'
-/// own laws, not their small-strain moduli: at a stretch of 3.7 the wall is far
-/// from linear. Falls back to the ratio of μ₀t when no such state is found.
-fn patch_stiffness(design: &Design, state: TubeState) -> f64 {
-    let (wall, patch) = (&design.balloon, &design.patch);
-    let linear = patch.material.shear_modulus() * patch.thickness_mm
-        / (wall.material.shear_modulus() * wall.wall_mm);
-    let laminate = design.patch.bonding == Bonding::Laminate;
-    // Membrane forces (∂E/∂λ₁, ∂E/∂λ₂) of a strip's energy per reference area.
-    let forces = |l1: f64, l2: f64, bare: bool| {
-        let (_, p1, p2) = patch.material.principal(l1, l2);
-        let (_, w1, w2) = wall.material.principal(l1, l2);
-        let (wt, pt) = match (bare, laminate) {
-            (true, _) => (wall.wall_mm, 0.0),
-            (false, true) => (wall.wall_mm, patch.thickness_mm),
-            (false, false) => (0.0, patch.thickness_mm),
-        };
-        [wt * w1 + pt * p1, wt * w2 + pt * p2]
-    };
-    let target = forces(state.hoop, state.axial, true);
-    let (mut l1, mut l2) = (
-        1.0 + 0.5 * (state.hoop - 1.0),
-        1.0 + 0.5 * (state.axial - 1.0),
-    );
-    for _ in 0..50 {
-        let f = forces(l1, l2, false);
-        let r = [f[0] - target[0], f[1] - target[1]];
-        let h = 1e-6;
-        let (a, b) = (forces(l1 + h, l2, false), forces(l1, l2 + h, false));
-        let j = [
-            [(a[0] - f[0]) / h, (b[0] - f[0]) / h],
-            [(a[1] - f[1]) / h, (b[1] - f[1]) / h],
-        ];
-        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-        if !det.is_finite() || det.abs() < 1e-300 {
-            break;
-        }
-        let step = [
-            (r[0] * j[1][1] - r[1] * j[0][1]) / det,
-            (j[0][0] * r[1] - j[1][0] * r[0]) / det,
-        ];
-        // Damped: stretches stay above a third of the current ones.
-        let t = [1.0, 0.5, 0.25, 0.125]
-            .into_iter()
-            .find(|t| l1 - t * step[0] > l1 / 3.0 && l2 - t * step[1] > l2 / 3.0)
-            .unwrap_or(0.0625);
-        (l1, l2) = (l1 - t * step[0], l2 - t * step[1]);
-        if step[0].abs().max(step[1].abs()) < 1e-10 {
-            let ratio = (state.axial - 1.0) / (l2 - 1.0);
-            let excess = if laminate { ratio - 1.0 } else { ratio };
-            return if excess.is_finite() && excess > 0.0 {
-                excess
-            } else {
-                linear
-            };
-        }
-    }
-    linear
 }
 
 /// Mean axial stretch and the cos/sin Fourier coefficients of λ(φ) at height y.
