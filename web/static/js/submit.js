@@ -29,6 +29,12 @@ function get(object, path) {
   return path.reduce((node, key) => node?.[key], object);
 }
 
+/** The material fields: JSON text, each a design material. */
+const MATERIALS = [
+  ["#material", ["design", "balloon", "material"]],
+  ["#patch-material", ["design", "patch", "material"]],
+];
+
 /** The job request from the forms; throws an ApiError naming a field the page can check itself. */
 export function jobRequest(curveSpec) {
   if (!curveSpec) throw new ApiError(422, { detail: "give the target curve first", field: "curve" });
@@ -38,12 +44,13 @@ export function jobRequest(curveSpec) {
     const text = $(id).value.trim();
     if (text !== "") put(request, path, Number(text));
   }
-  const material = $("#material").value.trim();
-  if (material) {
+  for (const [id, path] of MATERIALS) {
+    const text = $(id).value.trim();
+    if (!text) continue;
     try {
-      put(request, ["design", "balloon", "material"], JSON.parse(material));
+      put(request, path, JSON.parse(text));
     } catch (e) {
-      throw new ApiError(422, { detail: `not JSON: ${e.message}`, field: "design.balloon.material" });
+      throw new ApiError(422, { detail: `not JSON: ${e.message}`, field: path.join(".") });
     }
   }
   return request;
@@ -53,8 +60,10 @@ export function jobRequest(curveSpec) {
 export function fillForm(request) {
   $("#fidelity").value = request.options?.fidelity || "standard";
   for (const [id, path] of NUMBERS) $(id).value = get(request, path) ?? (id === "#seed" ? 1 : "");
-  const material = request.design?.balloon?.material;
-  $("#material").value = material ? JSON.stringify(material) : "";
+  for (const [id, path] of MATERIALS) {
+    const material = get(request, path);
+    $(id).value = material ? JSON.stringify(material) : "";
+  }
 }
 
 /** Submits; resolves to the created job, or shows the problem and resolves to null. */
