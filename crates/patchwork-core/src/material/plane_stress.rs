@@ -33,7 +33,12 @@ fn energy<T: Real>(model: &Law, u: &Volumetric, c: [T; 3], c33: T) -> Option<T> 
 /// c₃₃ = λ₃² with ∂W/∂c₃₃ = 0 at in-plane C, or `None` outside the domain.
 pub(super) fn thickness_c33(model: &Law, u: &Volumetric, c: [f64; 3]) -> Option<f64> {
     let (ln_j, _) = thickness::solve(model, u, c)?;
-    Some((2.0 * ln_j).exp() / (c[0] * c[1] - c[2] * c[2]))
+    Some(c33_of(ln_j, c))
+}
+
+/// c₃₃ = J²/det C.
+fn c33_of(ln_j: f64, c: [f64; 3]) -> f64 {
+    (2.0 * ln_j).exp() / (c[0] * c[1] - c[2] * c[2])
 }
 
 /// W̄(C) = W(C, c₃₃(C)) in any number type, with exact derivatives.
@@ -43,7 +48,7 @@ pub(super) fn condensed<T: Real>(model: &Law, u: &Volumetric, c: [T; 3]) -> Opti
     if !T::CARRIES_DERIVATIVES {
         return w.is_finite().then(|| T::constant(w));
     }
-    let c33 = (2.0 * ln_j).exp() / (c0[0] * c0[1] - c0[2] * c0[2]);
+    let c33 = c33_of(ln_j, c0);
     let w = energy(
         model,
         u,

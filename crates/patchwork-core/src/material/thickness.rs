@@ -30,12 +30,12 @@ const MAX_ITERATIONS: usize = 60;
 /// Largest step in ln J.
 const MAX_STEP: f64 = 1.5;
 
-/// What the thickness solve needs of in-plane C.
+/// What the thickness solve needs of in-plane C, computed once per solve.
 struct InPlane {
     det: f64,
     trace: f64,
-    /// Ogden's S_α per term.
-    ogden: Vec<f64>,
+    /// Ogden's (S_α, det C^(−α/2)) per term.
+    ogden: Vec<(f64, f64)>,
 }
 
 /// A value with its first two derivatives in y.
@@ -64,15 +64,15 @@ fn along(law: &Law, u: &Volumetric, c: &InPlane, y: f64) -> Option<Jet> {
     let dev = match law {
         Law::Ogden { mu_mpa, alpha } => {
             let mut w = Jet(0.0, 0.0, 0.0);
-            for ((mu, a), s) in mu_mpa.iter().zip(alpha).zip(&c.ogden) {
+            for ((mu, a), (s, det_power)) in mu_mpa.iter().zip(alpha).zip(&c.ogden) {
                 let scale = mu / a;
-                w = w
-                    .add(Jet::power(scale * s, (-a * y / 3.0).exp(), -a))
-                    .add(Jet::power(
-                        scale * c.det.powf(-a / 2.0),
-                        (2.0 * a * y / 3.0).exp(),
-                        2.0 * a,
-                    ));
+                // e^(−αy/3), and e^(2αy/3) = its −2nd power.
+                let g = (-a * y / 3.0).exp();
+                w = w.add(Jet::power(scale * s, g, -a)).add(Jet::power(
+                    scale * det_power,
+                    1.0 / (g * g),
+                    2.0 * a,
+                ));
                 w.0 -= 3.0 * scale;
             }
             w
@@ -106,7 +106,10 @@ pub(super) fn solve(law: &Law, u: &Volumetric, c: [f64; 3]) -> Option<(f64, f64)
             let q = half_gap * half_gap + c[2] * c[2];
             alpha
                 .iter()
-                .map(|a| symmetric_power_sum(0.5 * (c[0] + c[1]), q, a / 2.0))
+                .map(|a| {
+                    let s = symmetric_power_sum(0.5 * (c[0] + c[1]), q, a / 2.0);
+                    (s, det.powf(-a / 2.0))
+                })
                 .collect()
         }
         _ => Vec::new(),
@@ -121,15 +124,15 @@ pub(super) fn solve(law: &Law, u: &Volumetric, c: [f64; 3]) -> Option<(f64, f64)
     let mut w = along(law, u, &c, y)?;
     let mut previous = f64::INFINITY;
     for _ in 0..MAX_ITERATIONS {
-        if w.1 == 0.0 {
-            return Some((y, w.0));
-        }
         if w.1 < 0.0 {
             lo = y
         } else {
             hi = y
         }
-        let step = if w.2 > 0.0 {
+        // At an exact root the step is zero and the test below returns.
+        let step = if w.1 == 0.0 {
+            0.0
+        } else if w.2 > 0.0 {
             -w.1 / w.2
         } else {
             -w.1.signum() * MAX_STEP

@@ -2,7 +2,7 @@
 //! for each model (ABAQUS Theory Manual, "Hyperelastic material behavior"):
 //!
 //! - polynomial forms (neo-Hookean, Mooney–Rivlin) and Ogden:
-//!   U = Σᵢ (1/Dᵢ)(J − 1)^(2i);
+//!   U = Σᵢ (1/Dᵢ)(J − 1)^(2i), of which the first term (D₁) is taken;
 //! - Arruda–Boyce (and Gent here): U = (1/D)((J² − 1)/2 − ln J).
 //!
 //! Both give the initial bulk modulus K₀ = 2/D₁. ABAQUS/Explicit, which cannot
@@ -34,12 +34,13 @@ impl Compressibility {
     }
 }
 
-/// U(J) resolved for one material: its form and its Dᵢ (one term as the
-/// JSON states it; the polynomial form takes more).
-#[derive(Debug, Clone, PartialEq)]
+/// U(J) resolved for one material: its form and its D₁. Built at every
+/// evaluation, so it holds plain numbers (no allocation).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Volumetric {
+    /// (1/D)((J² − 1)/2 − ln J) (Arruda–Boyce, Gent), else (1/D)(J − 1)².
     logarithmic: bool,
-    d: Vec<f64>,
+    d: f64,
 }
 
 impl Volumetric {
@@ -47,10 +48,8 @@ impl Volumetric {
     pub(super) fn of(model: &Law, compressibility: &Compressibility) -> Option<Volumetric> {
         let d = match compressibility {
             Compressibility::Incompressible => return None,
-            Compressibility::BulkRatio(ratio) => {
-                vec![2.0 / (ratio * models::shear_modulus(model))]
-            }
-            Compressibility::D(d) => vec![*d],
+            Compressibility::BulkRatio(ratio) => 2.0 / (ratio * models::shear_modulus(model)),
+            Compressibility::D(d) => *d,
         };
         let logarithmic = matches!(model, Law::ArrudaBoyce { .. } | Law::Gent { .. });
         Some(Volumetric { logarithmic, d })
@@ -58,52 +57,31 @@ impl Volumetric {
 
     /// K₀ = 2/D₁ (MPa).
     pub(super) fn bulk_modulus(&self) -> f64 {
-        2.0 / self.d[0]
+        2.0 / self.d
     }
 
     /// U(J); J > 0 is the caller's.
     pub(super) fn energy<T: Real>(&self, j: T) -> T {
         if self.logarithmic {
-            return ((j * j - 1.0) * 0.5 - j.ln()) / self.d[0];
+            ((j * j - 1.0) * 0.5 - j.ln()) / self.d
+        } else {
+            (j - 1.0) * (j - 1.0) / self.d
         }
-        let excess = (j - 1.0) * (j - 1.0);
-        let mut power = excess;
-        let mut u = T::constant(0.0);
-        for d in &self.d {
-            u = u + power / *d;
-            power = power * excess;
-        }
-        u
     }
-}
 
-impl Volumetric {
-    /// U, dU/dy, d²U/dy² at y = ln J, given J.
+    /// U, dU/dy, d²U/dy² at y = ln J, given J (d/dy = J d/dJ).
     pub(super) fn along_ln_j(&self, j: f64) -> (f64, f64, f64) {
+        let d = self.d;
         if self.logarithmic {
-            let d = self.d[0];
-            return (
+            (
                 ((j * j - 1.0) * 0.5 - j.ln()) / d,
                 (j * j - 1.0) / d,
                 2.0 * j * j / d,
-            );
+            )
+        } else {
+            let x = j - 1.0;
+            (x * x / d, 2.0 * x * j / d, (2.0 * j * j + 2.0 * x * j) / d)
         }
-        // (J − 1)^(2i): d/dy = J d/dJ.
-        let x = j - 1.0;
-        let (mut u, mut du, mut d2u) = (0.0, 0.0, 0.0);
-        for (k, d) in self.d.iter().enumerate() {
-            let n = 2 * (k as i32 + 1);
-            let nf = n as f64;
-            let (p, p1, p2) = (
-                x.powi(n),
-                nf * x.powi(n - 1),
-                nf * (nf - 1.0) * x.powi(n - 2),
-            );
-            u += p / d;
-            du += j * p1 / d;
-            d2u += (j * j * p2 + j * p1) / d;
-        }
-        (u, du, d2u)
     }
 }
 
