@@ -43,21 +43,17 @@ pub(super) fn deviatoric<T: Real>(model: &Law, c: [T; 3], c33: T, j: Option<T>) 
     };
     let i1 = || scale(-2.0 / 3.0, trace + c33);
     match model {
-        Law::NeoHookean { mu_mpa } => Some((i1() - 3.0) * (0.5 * mu_mpa)),
-        Law::MooneyRivlin { c10_mpa, c01_mpa } => {
-            let i2 = scale(-4.0 / 3.0, c11 * c22 - c12 * c12 + trace * c33);
-            Some((i1() - 3.0) * *c10_mpa + (i2 - 3.0) * *c01_mpa)
-        }
-        Law::Gent { mu_mpa, jm } => {
-            let argument = T::constant(1.0) - (i1() - 3.0) / *jm;
-            (argument.value() > 0.0).then(|| argument.ln() * (-0.5 * mu_mpa * jm))
-        }
-        Law::ArrudaBoyce { .. } => {
-            // W(Ī₁) and its first two derivatives in plain arithmetic, then one
+        Law::NeoHookean { .. } | Law::Gent { .. } | Law::ArrudaBoyce { .. } => {
+            // W(Ī₁) and its first two derivatives in plain arithmetic
+            // (i1_energy, which the thickness solve uses too), then one
             // chain-rule step: far cheaper than the series on AD numbers.
             let i1 = i1();
             let (w, dw, d2w) = i1_energy(model, i1.value())?;
             Some(i1.apply(w, dw, d2w))
+        }
+        Law::MooneyRivlin { c10_mpa, c01_mpa } => {
+            let i2 = scale(-4.0 / 3.0, c11 * c22 - c12 * c12 + trace * c33);
+            Some((i1() - 3.0) * *c10_mpa + (i2 - 3.0) * *c01_mpa)
         }
         Law::Ogden { mu_mpa, alpha } => {
             let half_trace = trace * 0.5;
