@@ -19,7 +19,7 @@
 //! bends it), which accounts for most of its 409° of total turning against
 //! Patchwork's 333°; the turn at each patch agrees within a few degrees.
 
-use patchwork_core::curve::{Curve, Point, shape_error};
+use patchwork_core::curve::{Curve, Point, Units, read_curve, shape_error};
 use patchwork_core::design::{Design, Patch};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::{SimulateOptions, simulate};
@@ -30,15 +30,15 @@ const HELICAL: &str = include_str!("../data/abaqus/helical_patch_centreline.csv"
 
 /// The ABAQUS ring centres, mirrored into Patchwork's handedness.
 fn abaqus(text: &str) -> Curve {
-    let points = text
-        .lines()
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|x| x.trim().parse().unwrap()).collect();
-            Point::new(v[0], v[1], -v[2])
-        })
-        .collect();
-    Curve::from_points(points).unwrap()
+    let rings = read_curve(text, Units::Mm).unwrap();
+    Curve::from_points(
+        rings
+            .points()
+            .iter()
+            .map(|p| Point::new(p.x, p.y, -p.z))
+            .collect(),
+    )
+    .unwrap()
 }
 
 fn spacings(curve: &Curve) -> Vec<f64> {
