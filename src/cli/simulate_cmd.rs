@@ -26,9 +26,9 @@ pub struct SimulateArgs {
     #[arg(long)]
     json: bool,
     /// Element size (mm) [default: 0.5 under patches and at the ends, 4 along
-    /// bare stretches: the model designs are verified on, within 0.3 % of
-    /// membrane theory]. Given alone, the mesh is uniform: 1 mm is 0.9 % off
-    /// theory in hoop stretch, 2 mm 3.9 % and moves a patch's bend by up to
+    /// bare stretches: the model designs are verified on, within 0.5 % of
+    /// membrane theory]. Given alone, the mesh is uniform: 1 mm is 1.9 % off
+    /// theory in hoop stretch, 2 mm 7.6 % and moves a patch's bend by up to
     /// 10 % with its position on the mesh.
     #[arg(long)]
     mesh_mm: Option<f64>,

@@ -54,11 +54,13 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// The paper's scene: the reference balloon and patch with K₀/μ₀ = 20.
+/// The paper's scene, which is the reference scene: the authors' balloon
+/// and patch, both with K₀/μ₀ = 20 as ABAQUS/Explicit takes their D = 0.
 fn paper(patches: Vec<Patch>) -> Design {
-    let mut design = Design::reference(patches);
-    design.balloon.material.compressibility = Compressibility::abaqus_explicit();
-    design.patch.material.compressibility = Compressibility::abaqus_explicit();
+    let design = Design::reference(patches);
+    for material in [&design.balloon.material, &design.patch.material] {
+        assert_eq!(material.compressibility, Compressibility::abaqus_explicit());
+    }
     design
 }
 

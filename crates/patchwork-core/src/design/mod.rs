@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 pub use patch::Patch;
 pub use validate::DesignError;
 
-use crate::material::Material;
+use crate::material::{Compressibility, Material};
 
 /// The uninflated balloon.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -100,6 +100,15 @@ impl Design {
             pressure_kpa: default_pressure(),
             patches,
         }
+    }
+
+    /// The same design with both materials' compressibility set to `c`:
+    /// `Compressibility::Incompressible` for the incompressible model of the
+    /// same materials.
+    pub fn with_compressibility(mut self, c: Compressibility) -> Design {
+        self.balloon.material.compressibility = c.clone();
+        self.patch.material.compressibility = c;
+        self
     }
 
     /// The unit tests' small scene: an 80 mm reference balloon with one

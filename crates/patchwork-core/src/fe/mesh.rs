@@ -34,8 +34,10 @@ impl MeshSpec {
     /// stretches — the model every preset verifies a design on (its
     /// correction model), so simulating a design reproduces its predicted
     /// centreline. On the bare reference tube at 20 kPa its hoop and axial
-    /// stretches are within 0.3 % of membrane theory (test
-    /// `fe_tube_theory`); a 2 mm uniform mesh is 3.9 % off in hoop stretch.
+    /// stretches are within 0.5 % of membrane theory (0.45 % and 0.41 %,
+    /// `cargo test --release --test cli simulate_defaults`; 0.3 % on
+    /// incompressible materials, test `fe_tube_theory`); a 2 mm uniform mesh
+    /// is 7.6 % off in hoop stretch (3.9 % incompressible).
     pub const fn default_simulation() -> MeshSpec {
         MeshSpec {
             element_mm: 0.5,

@@ -20,6 +20,16 @@ use crate::design::{Design, DesignError};
 /// iterations 60 → 18). Any value only changes where Newton starts.
 const KINEMATIC_SCALE: f64 = 3.0;
 
+/// Cold solves on fine meshes start from coarser models: each mesh from the
+/// converged state of one with elements twice as large (3 × as large along
+/// bare stretches), the coarsest at most this size (mm: 10 sides round the
+/// reference balloon). The carried state is a few Newton iterations from the
+/// finer solution, where the kinematic start can be far: on the paper's
+/// compressible balloon the spring's KSA seed on the verification mesh
+/// takes 141 iterations from it (47 s) (`cargo run --release -p
+/// patchwork-core --example coarse_start`).
+const COARSEST_START_MM: f64 = 2.0;
+
 /// Fidelity and limits of a forward solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimulateOptions {
@@ -35,6 +45,10 @@ pub struct SimulateOptions {
     /// step together), besides each solve's `newton.time_limit`; `None`:
     /// only the per-solve limit. A caller answering a person sets it.
     pub time_limit: Option<Duration>,
+    /// Whether a cold solve on a fine mesh starts from the converged state
+    /// of a coarse model ([`COARSE_START`]) rather than the kinematic
+    /// estimate alone.
+    pub coarse_start: bool,
 }
 
 impl Default for SimulateOptions {
@@ -46,6 +60,7 @@ impl Default for SimulateOptions {
             min_continuation_step: 1.0 / 64.0,
             cut_elements: CutElements::default(),
             time_limit: None,
+            coarse_start: true,
         }
     }
 }
@@ -59,7 +74,7 @@ pub enum SimulateError {
     #[error("invalid options: {0}")]
     Options(String),
     #[error(
-        "the bare tube has no stable inflated state at {pressure_kpa} kPa with this material (pressure beyond the reach of its rising branches)"
+        "the bare tube has no stable inflated state at {pressure_kpa} kPa with this material: no rising branch of its inflation curve reaches that pressure below a hoop stretch of 12, past any latex balloon's burst"
     )]
     NoTubeState { pressure_kpa: f64 },
     #[error("forward solve failed at patch stiffness {stiffness:.3}: {reason}")]
@@ -168,13 +183,25 @@ pub fn simulate_with(
         reason,
     })?;
     let setup_time = setup.elapsed();
-    let with_setup = |s: SolveStats| SolveStats { setup_time, ..s };
-    let mut stats = with_setup(SolveStats::default());
+    let mut stats = SolveStats {
+        setup_time,
+        ..SolveStats::default()
+    };
     let mut steps = 0;
-    // A neighbour's converged state (if given), then the kinematic (bent)
-    // start, each at full patch stiffness; if Newton fails from both, the
-    // straight tube and continuation.
-    let warm = previous.and_then(|p| carried_state(&p.mesh, &p.positions, &model.mesh));
+    // A neighbour's converged state (if given) or else a coarse model's,
+    // then the kinematic (bent) start, each at full patch stiffness; if
+    // Newton fails from both, the straight tube and continuation. The
+    // stats count the coarse solve's iterations and times.
+    let coarse = match previous {
+        None => coarse_solution(design, options, patterns),
+        Some(_) => None,
+    };
+    if let Some(c) = &coarse {
+        stats.accumulate(&c.stats);
+    }
+    let warm = previous
+        .or(coarse.as_ref())
+        .and_then(|p| carried_state(&p.mesh, &p.positions, &model.mesh));
     let kinematic = std::iter::once_with(|| {
         (!design.patches.is_empty())
             .then(|| kinematic_state(design, &model.mesh, tube_state, KINEMATIC_SCALE))
@@ -199,16 +226,8 @@ pub fn simulate_with(
         Some((x, s))
     });
     if let Some((x, s)) = solved {
-        return finish(
-            design,
-            options,
-            model,
-            x,
-            tube_state,
-            with_setup(s),
-            1,
-            started,
-        );
+        stats.accumulate(&s);
+        return finish(design, options, model, x, tube_state, stats, 1, started);
     }
     let mut x = initial_state(&model.mesh, tube_state);
 
@@ -245,6 +264,26 @@ pub fn simulate_with(
         }
     }
     finish(design, options, model, x, tube_state, stats, steps, started)
+}
+
+/// The converged state of the next coarser model (see
+/// [`COARSEST_START_MM`]), where `options` ask for it and the design has
+/// patches; none otherwise, or if that solve fails (the fine solve then
+/// starts from the kinematic estimate).
+fn coarse_solution(
+    design: &Design,
+    options: &SimulateOptions,
+    patterns: &PatternCache,
+) -> Option<Simulation> {
+    let element_mm = 2.0 * options.mesh.element_mm;
+    if !options.coarse_start || design.patches.is_empty() || element_mm > COARSEST_START_MM {
+        return None;
+    }
+    let coarse = SimulateOptions {
+        mesh: MeshSpec::graded(element_mm, 3.0 * element_mm),
+        ..*options
+    };
+    simulate_with(design, &coarse, None, patterns).ok()
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -31,7 +31,9 @@ pub enum DesignRunError {
     Ksa(KsaError),
     #[error("{0}")]
     Variables(VariableError),
-    #[error("the bare balloon has no stable inflated state at {pressure_kpa} kPa")]
+    #[error(
+        "the bare balloon has no stable inflated state at {pressure_kpa} kPa: no rising branch of its inflation curve reaches that pressure below a hoop stretch of 12, past any latex balloon's burst"
+    )]
     NoTubeState { pressure_kpa: f64 },
     #[error("the seed design could not be simulated: {0}")]
     Seed(SimulateError),

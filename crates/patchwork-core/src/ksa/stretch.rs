@@ -4,8 +4,9 @@ use super::KsaError;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Stretch {
     /// The authors' assumption: uniform λ = L_curve / L₀. Their own code calls it
-    /// "not physically true": with the reference materials a bare tube at 20 kPa
-    /// stretches axially by about 2, not 3.1.
+    /// "not physically true": patches stretch less than bare wall (on the
+    /// reference balloon at 20 kPa the bare tube stretches 3.67 axially, the
+    /// patched stretches less, so their curves of 3.1 × L₀ fit).
     Uniform,
     /// A given axial stretch, e.g. from the membrane solution of the bare tube.
     /// The balloon to cut is then `L_curve / λ` long, not `L₀`.

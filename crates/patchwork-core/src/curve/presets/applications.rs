@@ -82,8 +82,9 @@ pub(super) fn hook(p: &HookParams, n: usize) -> Result<Curve, CurveError> {
 
 /// A straight lead of `lead_mm`, then a helix wrapped around a cylinder of
 /// diameter `diameter_mm` (its axis along z): the centreline's radius is the
-/// cylinder's plus the inflated tube's, `tube_radius_mm` (8.9 mm: the
-/// reference balloon at 20 kPa, by membrane theory). The lead is the
+/// cylinder's plus the inflated tube's, `tube_radius_mm` (16.5 mm: the
+/// reference balloon, the paper's, at 20 kPa by membrane theory, 3.18 mm ×
+/// a hoop stretch of 5.19). The lead is the
 /// helix's tangent at its start, so the curve is smooth (its curvature
 /// jumps from 0 to the helix's).
 pub(super) fn grasp(p: &GraspParams, n: usize) -> Result<Curve, CurveError> {
@@ -226,7 +227,7 @@ mod tests {
             serde_json::json!({"diameter_mm": 40, "turns": 1, "pitch_mm": 30, "lead_mm": 50}),
             600,
         );
-        let r = 20.0 + 8.9;
+        let r = 20.0 + 16.5;
         let on_helix: Vec<&Point> = c.points().iter().filter(|p| p.z > 0.5).collect();
         assert!(on_helix.iter().all(|p| (p.x.hypot(p.y) - r).abs() < 1e-9));
         let helix = std::f64::consts::TAU * (r * r + (30.0 / std::f64::consts::TAU).powi(2)).sqrt();

@@ -101,9 +101,9 @@ params!(HookParams {
 params!(GraspParams {
     diameter_mm: 40.0,
     turns: 1.5,
-    pitch_mm: 30.0,
+    pitch_mm: 40.0,
     lead_mm: 60.0,
-    tube_radius_mm: 8.9
+    tube_radius_mm: 16.5
 });
 
 mod applications;

@@ -52,7 +52,12 @@ fn the_reference_table_bends_and_twists_as_patches_do() {
     // Inclined, the patch turns round the tube along its length: the
     // centreline twists by φ = H tan Θ / R₀ over the patch's length H (KSA's
     // relation), τ = tan Θ / (R₀ λ) per inflated length for an axial stretch
-    // λ, the same λ at every angle.
+    // λ, the same λ at every angle, between 1 and the bare tube's axial
+    // stretch (the patch holds its stretch back).
+    let balloon = Design::reference(vec![]).balloon;
+    let bare = crate::fe::tube_theory::inflate_tube(&balloon.material, 0.02, 3.18, balloon.wall_mm)
+        .unwrap()
+        .axial;
     let widest = table.widest();
     assert!(
         widest[1..].iter().all(|e| e.torsion_per_mm > 0.0),
@@ -63,7 +68,7 @@ fn the_reference_table_bends_and_twists_as_patches_do() {
         .map(|e| e.theta_deg.to_radians().tan() / (e.torsion_per_mm * 3.18))
         .collect();
     for lambda in &stretch {
-        assert!(*lambda > 1.2 && *lambda < 2.0, "{stretch:?}");
+        assert!(*lambda > 1.2 && *lambda < bare, "{stretch:?} (bare {bare})");
         assert!((lambda / stretch[0] - 1.0).abs() < 0.12, "{stretch:?}");
     }
     // More twist per bend the steeper the patch.
@@ -126,17 +131,24 @@ fn simulated_trains_are_within_reach() {
         twist_mm: bounds.h_max_mm,
     };
     let designs = round_trip_designs(9, 2027);
+    // Ring centres 10 mm apart along the paper's balloon's ~1 m centrelines
+    // (its default 72 rings are 14 mm apart, longer than the 10 mm bend
+    // window, too few for the twist fit's 30 mm window).
+    let sampled = SimulateOptions {
+        rings: 100,
+        ..model()
+    };
     for design in [&designs[0], &designs[5], &designs[8]] {
-        let simulation = crate::fe::simulate(design, &model()).unwrap();
+        let simulation = crate::fe::simulate(design, &sampled).unwrap();
         let report = judge(&simulation.centreline, table.clone(), lengths, 0.01);
         assert!(report.reachable(), "{:?}", report.out_of_reach);
-        // As the run sees it: 72 ring centres 10 mm apart, whose bends
+        // As the run sees it: ring centres 10 mm apart, whose bends
         // between samples are not drawing noise, so nothing is smoothed.
         let (prepared, input) = prepare(&simulation.centreline, Smoothing::Auto, 0.01).unwrap();
         assert_eq!(input.smoothing_mm, 0.0, "noise {}", input.noise_mm);
         assert!(judge(&prepared, table.clone(), lengths, 0.01).reachable());
     }
-    // Sampled finely (400 rings, 1.8 mm apart), a helix fitted over the
+    // Sampled finely (400 rings, 2.5 mm apart), a helix fitted over the
     // twist window across an inflection asks 27–92 twist per bend at one
     // window between windows within reach; such lone windows do not count.
     for design in [&designs[0], &designs[5]] {
@@ -157,10 +169,7 @@ fn simulated_trains_are_within_reach() {
 /// collapsed the rings into pairs).
 #[test]
 fn the_compressible_balloons_peak_bends_are_its_bends() {
-    let mut paper = Design::reference(vec![]);
-    for material in [&mut paper.balloon.material, &mut paper.patch.material] {
-        material.compressibility = crate::material::Compressibility::abaqus_explicit();
-    }
+    let paper = Design::reference(vec![]);
     let bounds = VariableBounds {
         theta_limit_deg: 0.0,
         ..VariableBounds::default()
