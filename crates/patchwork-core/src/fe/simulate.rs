@@ -148,28 +148,7 @@ pub fn simulate_with(
     patterns: &PatternCache,
 ) -> Result<Simulation, SimulateError> {
     let started = Instant::now();
-    design.validate()?;
-    options
-        .mesh
-        .validate(design.balloon.radius_mm)
-        .map_err(SimulateError::Options)?;
-    if !(2..=10_000).contains(&options.rings) {
-        return Err(SimulateError::Options(format!(
-            "rings = {} must be between 2 and 10000",
-            options.rings
-        )));
-    }
-    let nodes = options
-        .mesh
-        .most_nodes(design.balloon.radius_mm, design.balloon.length_mm);
-    if nodes > MAX_NODES {
-        return Err(SimulateError::Options(format!(
-            "a {:.0} mm balloon of radius {} mm on {} elements needs up to {nodes:.0} nodes, \
-             more than the {MAX_NODES:.0} one solve may use: a shorter or thinner balloon, \
-             or a coarser mesh",
-            design.balloon.length_mm, design.balloon.radius_mm, options.mesh
-        )));
-    }
+    check(design, options)?;
     let b = &design.balloon;
     let tube_state = inflate_tube(&b.material, design.pressure_mpa(), b.radius_mm, b.wall_mm)
         .ok_or(SimulateError::NoTubeState {
@@ -187,7 +166,6 @@ pub fn simulate_with(
         setup_time,
         ..SolveStats::default()
     };
-    let mut steps = 0;
     // A neighbour's converged state (if given) or else a coarse model's,
     // then the kinematic (bent) start, each at full patch stiffness; if
     // Newton fails from both, the straight tube and continuation. The
@@ -230,17 +208,59 @@ pub fn simulate_with(
         return finish(design, options, model, x, tube_state, stats, 1, started);
     }
     let mut x = initial_state(&model.mesh, tube_state);
+    let steps = continuation(design, options, &model, &solver, &mut x, &left, &mut stats)?;
+    finish(design, options, model, x, tube_state, stats, steps, started)
+}
 
-    let (mut done, mut step) = (0.0_f64, 1.0_f64);
+/// The design's and the options' checks before any solve.
+fn check(design: &Design, options: &SimulateOptions) -> Result<(), SimulateError> {
+    design.validate()?;
+    options
+        .mesh
+        .validate(design.balloon.radius_mm)
+        .map_err(SimulateError::Options)?;
+    if !(2..=10_000).contains(&options.rings) {
+        return Err(SimulateError::Options(format!(
+            "rings = {} must be between 2 and 10000",
+            options.rings
+        )));
+    }
+    let nodes = options
+        .mesh
+        .most_nodes(design.balloon.radius_mm, design.balloon.length_mm);
+    if nodes > MAX_NODES {
+        return Err(SimulateError::Options(format!(
+            "a {:.0} mm balloon of radius {} mm on {} elements needs up to {nodes:.0} nodes, \
+             more than the {MAX_NODES:.0} one solve may use: a shorter or thinner balloon, \
+             or a coarser mesh",
+            design.balloon.length_mm, design.balloon.radius_mm, options.mesh
+        )));
+    }
+    Ok(())
+}
+
+/// Continuation in patch stiffness from the straight tube `x` to the
+/// design: steps doubled after easy solves, halved after failed ones down to
+/// `min_continuation_step`. Returns the steps taken; `stats` gathers them.
+fn continuation(
+    design: &Design,
+    options: &SimulateOptions,
+    model: &Model,
+    solver: &Solver,
+    x: &mut Vec<Point>,
+    left: &impl Fn() -> NewtonOptions,
+    stats: &mut SolveStats,
+) -> Result<usize, SimulateError> {
+    let (mut done, mut step, mut steps) = (0.0_f64, 1.0_f64, 0);
     while done < 1.0 {
         let target = (done + step).min(1.0);
         let sections = model.sections_at(design, target);
         let mut trial = x.clone();
-        match solver.solve(&model, &sections, &mut trial, &left()) {
+        match solver.solve(model, &sections, &mut trial, &left()) {
             Ok(s) => {
                 steps += 1;
                 stats.accumulate(&s);
-                x = trial;
+                *x = trial;
                 done = target;
                 if s.iterations < 8 {
                     step *= 2.0;
@@ -263,7 +283,7 @@ pub fn simulate_with(
             }
         }
     }
-    finish(design, options, model, x, tube_state, stats, steps, started)
+    Ok(steps)
 }
 
 /// The converged state of the next coarser model (see
