@@ -16,7 +16,8 @@ pub fn header(command: &str) -> String {
          | | |\n|---|---|\n\
          | date | {date} |\n\
          | build | {} ({} profile) |\n\
-         | machine | {} |\n\n\
+         | machine | {} |\n\
+         | scene | {} |\n\n\
          **Shape error** is the root-mean-square distance between the target \
          and the design's inflated centreline, compared at equal fractions of \
          their length after the best rigid alignment, as a percentage of the \
@@ -31,7 +32,23 @@ pub fn header(command: &str) -> String {
         } else {
             "release"
         },
-        machine()
+        machine(),
+        scene()
+    )
+}
+
+/// The reference scene every curve is designed on: its materials and
+/// their compressibility, and the pressure.
+fn scene() -> String {
+    let d = patchwork_core::design::Design::reference(vec![]);
+    let (b, p) = (&d.balloon.material, &d.patch.material);
+    format!(
+        "the reference balloon ({}, {}) with {} patches ({}) at {} kPa",
+        b.model_name(),
+        b.compressibility,
+        p.model_name(),
+        p.compressibility,
+        d.pressure_kpa
     )
 }
 

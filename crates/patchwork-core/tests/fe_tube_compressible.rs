@@ -105,7 +105,7 @@ fn paper_design(pressure_kpa: f64) -> Design {
     Design {
         balloon: Balloon {
             length_mm: 25.0 * R0,
-            material: Material::reference_balloon().with_compressibility(abaqus.clone()),
+            material: Material::reference_balloon().with_compressibility(abaqus),
             ..Balloon::default()
         },
         patch: PatchSpec {

@@ -204,7 +204,7 @@ fn ogden_with_one_term_alpha_two_is_neo_hookean() {
         Compressibility::Incompressible,
         Compressibility::BulkRatio(20.0),
     ] {
-        let ogden = Material::compressible(ogden.clone(), compressibility.clone());
+        let ogden = Material::compressible(ogden.clone(), compressibility);
         let neo = Material::compressible(neo.clone(), compressibility);
         for c in states() {
             assert!((ogden.energy(c) - neo.energy(c)).abs() < 1e-12);

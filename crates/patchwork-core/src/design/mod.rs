@@ -106,7 +106,7 @@ impl Design {
     /// `Compressibility::Incompressible` for the incompressible model of the
     /// same materials.
     pub fn with_compressibility(mut self, c: Compressibility) -> Design {
-        self.balloon.material.compressibility = c.clone();
+        self.balloon.material.compressibility = c;
         self.patch.material.compressibility = c;
         self
     }

@@ -16,7 +16,7 @@ use super::{Law, MaterialError, models};
 pub const ABAQUS_EXPLICIT_BULK_RATIO: f64 = 20.0;
 
 /// How a material resists a change of volume.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Compressibility {
     /// J = 1 exactly.
     Incompressible,
@@ -31,6 +31,16 @@ impl Compressibility {
     /// K₀/μ₀ = 20: the authors' balloon and patch.
     pub fn abaqus_explicit() -> Compressibility {
         Compressibility::BulkRatio(ABAQUS_EXPLICIT_BULK_RATIO)
+    }
+}
+
+impl std::fmt::Display for Compressibility {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Compressibility::Incompressible => write!(f, "incompressible"),
+            Compressibility::BulkRatio(r) => write!(f, "K₀/μ₀ = {r}"),
+            Compressibility::D(d) => write!(f, "D₁ = {d} /MPa"),
+        }
     }
 }
 
