@@ -128,9 +128,10 @@ pub fn known_limits(curves: &[Row]) -> String {
          - **Planar targets get planar designs** (Θ = 0 on two opposite \
          lines); a little twist sometimes places bends better, which \
          `--tuning '{{\"planar_designs\": false}}'` allows.\n\
-         - **Very long curves are slow**: a 2 m helix (a 1 m balloon) takes \
-         several minutes with one patch per bend (`cargo test --release -p \
-         patchwork-core --test stress -- --nocapture`).\n\
+         - **Very long curves are slow**: a 1.3 m helix (a 360 mm balloon) \
+         takes about 4 minutes with `draft`, KSA's layout and no refine \
+         (`cargo test --release -p patchwork-core --test stress -- \
+         --nocapture`).\n\
          - **Coarse meshes are for searching only**: the uniform 2 mm mesh is \
          several per cent off theory (table above); every preset verifies on \
          0.5 mm elements.\n"

@@ -46,8 +46,8 @@ pub struct SimulateOptions {
     /// only the per-solve limit. A caller answering a person sets it.
     pub time_limit: Option<Duration>,
     /// Whether a cold solve on a fine mesh starts from the converged state
-    /// of a coarse model ([`COARSE_START`]) rather than the kinematic
-    /// estimate alone.
+    /// of coarser models (elements twice as large, down to 2 mm) rather
+    /// than the kinematic estimate alone.
     pub coarse_start: bool,
 }
 
