@@ -199,6 +199,15 @@ pub async fn list(
         )
         .field("status"));
     }
+    if let Some(cursor) = &query.cursor
+        && !is_job_id(cursor)
+    {
+        return Err(Problem::new(
+            StatusCode::BAD_REQUEST,
+            "cursor must be the next_cursor of a previous page (a job id)",
+        )
+        .field("cursor"));
+    }
     let limit = page_limit(query.limit, 50, 500)?;
     let rows = state
         .store
@@ -216,8 +225,18 @@ pub async fn list(
     Ok(axum::Json(json!({ "jobs": jobs, "next_cursor": next })).into_response())
 }
 
-/// The job if `owner` may see it; another owner's job is a 404.
+/// Whether `id` has the form of a job id (a UUID); anything else is no job,
+/// and never reaches the database (PostgreSQL refuses a NUL in text).
+fn is_job_id(id: &str) -> bool {
+    uuid::Uuid::try_parse(id).is_ok()
+}
+
+/// The job if `owner` may see it; another owner's job is a 404, and so is an
+/// id that is not a job id.
 pub async fn owned(state: &AppState, owner: &Owner, id: &str) -> Result<JobRow, Problem> {
+    if !is_job_id(id) {
+        return Err(Problem::not_found("no such job"));
+    }
     state
         .store
         .job(id, owner.filter())
