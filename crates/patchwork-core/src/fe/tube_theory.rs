@@ -13,6 +13,8 @@
 //! stiffening models, rises again. We return the state on the *last rising
 //! branch*: the stable one that a pressure-controlled inflation ends on.
 
+use std::sync::Mutex;
+
 use crate::material::Material;
 
 /// Uniform stretches of the bare tube.
@@ -86,10 +88,46 @@ pub fn pressure_ratio(material: &Material, hoop: f64) -> Option<(f64, f64)> {
     w.is_finite().then(|| (w1 / (hoop * axial), axial))
 }
 
+/// Tube states already found, per material and P R₀/t₀: every forward solve
+/// of a run asks for the same one, and the scan below costs about 35 ms on
+/// the compressible reference balloon (its thickness is solved at each of
+/// some 550 hoop stretches) — as much as a warm solve on the search model.
+static KNOWN: Mutex<Vec<(Material, u64, Option<TubeState>)>> = Mutex::new(Vec::new());
+
+/// How many (material, load) states [`KNOWN`] keeps.
+const KNOWN_STATES: usize = 16;
+
 /// The stable uniform state at pressure `pressure_mpa` of a tube with radius
 /// `r0` and wall `t0`, or `None` if no rising branch reaches that pressure.
 pub fn inflate_tube(material: &Material, pressure_mpa: f64, r0: f64, t0: f64) -> Option<TubeState> {
     let target = pressure_mpa * r0 / t0;
+    let key = target.to_bits();
+    let known = |cache: &Vec<(Material, u64, Option<TubeState>)>| {
+        cache
+            .iter()
+            .find(|(m, k, _)| *k == key && m == material)
+            .map(|(_, _, state)| *state)
+    };
+    // A poisoned lock only means another thread panicked mid-insert; the
+    // states in it are still whole.
+    let lock = || KNOWN.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(state) = known(&lock()) {
+        return state;
+    }
+    let state = scan(material, target);
+    let mut cache = lock();
+    if known(&cache).is_none() {
+        if cache.len() == KNOWN_STATES {
+            cache.remove(0);
+        }
+        cache.push((material.clone(), key, state));
+    }
+    state
+}
+
+/// The state at P R₀/t₀ = `target` (MPa): the last upward crossing of the
+/// scanned p(λ₁), refined by bisection.
+fn scan(material: &Material, target: f64) -> Option<TubeState> {
     if target == 0.0 {
         return Some(TubeState {
             hoop: 1.0,
