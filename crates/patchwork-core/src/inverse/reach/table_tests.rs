@@ -54,10 +54,16 @@ fn the_reference_table_bends_and_twists_as_patches_do() {
     // relation), τ = tan Θ / (R₀ λ) per inflated length for an axial stretch
     // λ, the same λ at every angle, between 1 and the bare tube's axial
     // stretch (the patch holds its stretch back).
-    let balloon = Design::reference(vec![]).balloon;
-    let bare = crate::fe::tube_theory::inflate_tube(&balloon.material, 0.02, 3.18, balloon.wall_mm)
-        .unwrap()
-        .axial;
+    let scene = Design::reference(vec![]);
+    let b = &scene.balloon;
+    let bare = crate::fe::tube_theory::inflate_tube(
+        &b.material,
+        scene.pressure_mpa(),
+        b.radius_mm,
+        b.wall_mm,
+    )
+    .unwrap()
+    .axial;
     let widest = table.widest();
     assert!(
         widest[1..].iter().all(|e| e.torsion_per_mm > 0.0),
