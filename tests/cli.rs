@@ -618,7 +618,33 @@ fn design_reports_what_is_out_of_reach() {
         summary.contains("smoothed with σ 0.5 mm (--smooth-mm)"),
         "{summary}"
     );
+    // The design is measured against the curve as given too: the smoothed
+    // target is a little shorter than the polyline given.
+    assert!(summary.contains("as given:     shape error "), "{summary}");
+    let smoothed: Value = serde_json::from_str(
+        &std::fs::read_to_string(std::path::Path::new(&out).join("design.json")).unwrap(),
+    )
+    .unwrap();
+    let given = &smoothed["as_given"];
+    let given_length = given["length_mm"].as_f64().unwrap();
+    let aimed_length = smoothed["target_length_mm"].as_f64().unwrap();
+    assert!(
+        given_length > aimed_length && given_length < 1.005 * aimed_length,
+        "{given} {aimed_length}"
+    );
+    let given_error = given["shape_error_percent"].as_f64().unwrap();
+    let aimed_error = smoothed["metrics"]["shape_error_percent"].as_f64().unwrap();
+    assert!(
+        given_error.is_finite() && (given_error - aimed_error).abs() < 0.2,
+        "{given_error} {aimed_error}"
+    );
     let report = json(&run(&["--json"]));
+    // Not smoothed: the curve as given is the target, and both figures are one.
+    assert_eq!(report["input"]["smoothing_mm"], 0.0);
+    assert_eq!(
+        report["as_given"]["shape_error_percent"],
+        report["metrics"]["shape_error_percent"]
+    );
     let span = &report["reach"]["out_of_reach"][0];
     let needs = span["needs_bend_radius_mm"].as_f64().unwrap();
     let tightest = report["reach"]["tightest_bend_radius_mm"].as_f64().unwrap();

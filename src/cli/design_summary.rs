@@ -30,6 +30,7 @@ pub fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         r.termination
     );
     s.push_str(&input_line(&r.input));
+    s.push_str(&as_given_line(r));
     s.push_str(&reach_lines(r.reach.as_ref()));
     s.push_str(&refine_line("refine:      ", r.refine.as_ref()));
     s.push_str(&layout_lines(&r.layouts));
@@ -98,6 +99,20 @@ fn input_line(input: &InputReport) -> String {
         (false, _) => "",
     };
     format!("input:        {smoothing}{planar}\n")
+}
+
+/// The design against the curve as given, where smoothing made the target
+/// the design aimed at another curve (empty otherwise: the figures above
+/// are then against the curve as given).
+fn as_given_line(r: &DesignReport) -> String {
+    match &r.as_given {
+        Some(g) if r.input.smoothing_mm > 0.0 => format!(
+            "as given:     shape error {:.2} mm ({:.2} % of length) against the curve before smoothing \
+             ({:.1} mm long; the smoothed target {:.1} mm)\n",
+            g.shape_error_mm, g.shape_error_percent, g.length_mm, r.target_length_mm
+        ),
+        _ => String::new(),
+    }
 }
 
 /// Whether the target is within reach, and where not.

@@ -68,6 +68,7 @@ async fn succeed(state: &AppState, lease: &Lease, report: &DesignReport) {
     let done = json!({
         "result": format!("/v1/jobs/{}/result", lease.id),
         "shape_error_percent": finite(m.shape_error_percent),
+        "as_given_shape_error_percent": report.as_given.and_then(|g| finite(g.shape_error_percent)),
         "objective": finite(m.objective),
         "evaluations": report.evaluations,
         "elapsed_s": report.elapsed_s,

@@ -10,12 +10,22 @@ import { drawUnrolled } from "./unrolled.js";
 
 const FIELDS = [["x_mm", "X (mm)"], ["y_mm", "Y (mm)"], ["h_mm", "H (mm)"], ["w_mm", "W (mm)"], ["theta_deg", "Θ (°)"]];
 
+// Where smoothing changed the target, the design against the curve as the
+// user gave it too.
+function asGiven(result) {
+  const g = result.as_given;
+  if (!g || !(result.input?.smoothing_mm > 0)) return [];
+  return [["shape error, curve as given",
+    `${num(g.shape_error_percent, 3)} % of its length (${num(g.shape_error_mm, 3)} mm RMS; before smoothing, ${num(g.length_mm, 4)} mm long)`]];
+}
+
 export async function showResult(page, jobId, result, preview) {
   const target = preview?.points_mm;
   const m = result.metrics;
   const facts = $("#job-facts");
   const rows = [
     ["shape error", `${num(m.shape_error_percent, 3)} % of the length (${num(m.shape_error_mm, 3)} mm RMS)`],
+    ...asGiven(result),
     ["DTW κ, τ", `${num(m.dtw_curvature, 3)}, ${num(m.dtw_torsion, 3)}`],
     ["target", `${num(result.target_length_mm, 4)} mm`],
     ["inflated", `${num(result.inflated_length_mm, 4)} mm`],

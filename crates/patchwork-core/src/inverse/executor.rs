@@ -11,10 +11,11 @@ use super::checkpoint::DesignCheckpoint;
 use super::errors::DesignRunError;
 use super::input::prepare;
 use super::limits::at_limits;
-use super::outcome::{DesignOutcome, DesignProgress};
+use super::objective::SHAPE_SAMPLES;
+use super::outcome::{AsGiven, DesignOutcome, DesignProgress};
 use super::plan::Plan;
 use super::run::{Context, Observer, Run, Setup};
-use crate::curve::Curve;
+use crate::curve::{Curve, shape_error};
 
 /// Runs the plan from the start, with caches of its own; `observer` hears
 /// every stage and generation.
@@ -43,7 +44,8 @@ pub fn design_resumable(
 ) -> Result<DesignOutcome, DesignRunError> {
     let earlier_s = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
     let mut ctx = Context::new(cancel, caches, observer, earlier_s);
-    let (target, input) = prepare(target, plan.settings().smoothing, plan.tuning().kappa_tol)
+    let given = target;
+    let (target, input) = prepare(given, plan.settings().smoothing, plan.tuning().kappa_tol)
         .map_err(DesignRunError::Input)?;
     let setup = Setup::new(&target, input, plan.settings(), plan.tuning());
     let mut run = plan.seed().run(setup, resume, &mut ctx)?;
@@ -51,17 +53,23 @@ pub fn design_resumable(
         ctx.check_cancelled()?;
         stage.stage().run(&mut run, &mut ctx)?;
     }
-    outcome(run, &ctx)
+    outcome(run, given, &ctx)
 }
 
-/// The outcome of a run whose stages are done.
-fn outcome(mut run: Run<'_>, ctx: &Context<'_>) -> Result<DesignOutcome, DesignRunError> {
+/// The outcome of a run whose stages are done; `given` is the curve as the
+/// user gave it.
+fn outcome(
+    mut run: Run<'_>,
+    given: &Curve,
+    ctx: &Context<'_>,
+) -> Result<DesignOutcome, DesignRunError> {
     let simulation = run.take_verified("outcome")?;
     let (metrics, profiles) = verified(
         &run.setup.profiles,
         &simulation,
         &run.setup.tuning.objective,
     );
+    let as_given = as_given(&simulation.centreline, given);
     let state = run.state;
     Ok(DesignOutcome {
         at_limits: at_limits(&run.design.patches, &run.setup.settings.bounds),
@@ -85,8 +93,19 @@ fn outcome(mut run: Run<'_>, ctx: &Context<'_>) -> Result<DesignOutcome, DesignR
         final_refine_skipped: run.final_refine_skipped,
         verified_on: run.verified_on,
         input: run.setup.input,
+        as_given,
         reach: run.reach,
         layouts: run.layouts,
         elapsed: Duration::from_secs_f64(ctx.elapsed_s()),
     })
+}
+
+/// The verified centreline against the curve as given.
+fn as_given(centreline: &Curve, given: &Curve) -> AsGiven {
+    let shape = shape_error(centreline, given, SHAPE_SAMPLES).ok();
+    AsGiven {
+        length_mm: given.length(),
+        shape_error_mm: shape.as_ref().map_or(f64::INFINITY, |e| e.rms_mm),
+        shape_error_percent: shape.map_or(f64::INFINITY, |e| e.percent_of_length),
+    }
 }

@@ -48,7 +48,8 @@ pub use input::{InputReport, Smoothing};
 pub use limits::AtLimit;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use outcome::{
-    DesignOutcome, DesignProgress, Metrics, Profiles, RefineSummary, SearchEnd, SearchStop, Stage,
+    AsGiven, DesignOutcome, DesignProgress, Metrics, Profiles, RefineSummary, SearchEnd,
+    SearchStop, Stage,
 };
 pub use plan::{Plan, PlannedStage};
 pub use presets::{Fidelity, PRESETS, PresetRow};

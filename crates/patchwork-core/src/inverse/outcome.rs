@@ -79,6 +79,21 @@ pub struct Metrics {
     pub shape_error_percent: f64,
 }
 
+/// The verified centreline against the curve exactly as the user gave it,
+/// before any smoothing: [`Metrics`] measure it against the prepared target
+/// the design aimed at, which smoothing may have moved (rounded corners,
+/// jitter removed, a noisy stroke shortened). With no smoothing both are
+/// the same curve.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AsGiven {
+    /// Length of the polyline as given (jitter lengthens it).
+    pub length_mm: f64,
+    /// RMS distance after the best rigid alignment, at equal fractions of
+    /// length, as [`Metrics::shape_error_mm`].
+    pub shape_error_mm: f64,
+    pub shape_error_percent: f64,
+}
+
 /// Target and verified κ, τ on the objective's sampling.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Profiles {
@@ -156,6 +171,8 @@ pub struct DesignOutcome {
     pub at_limits: Vec<AtLimit>,
     /// What was done to the target before the design (its smoothing).
     pub input: InputReport,
+    /// The verified centreline against the curve as given.
+    pub as_given: AsGiven,
     /// Where the target is beyond what a patch can make; none when the plan
     /// had no reach stage.
     pub reach: Option<ReachReport>,

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use super::input::InputReport;
 use super::layout::LayoutTrial;
 use super::limits::AtLimit;
-use super::outcome::{DesignOutcome, Metrics, Profiles, RefineSummary, SearchEnd};
+use super::outcome::{AsGiven, DesignOutcome, Metrics, Profiles, RefineSummary, SearchEnd};
 use super::reach::ReachReport;
 use crate::design::Design;
 
@@ -51,6 +51,11 @@ pub struct DesignReport {
     /// smoothing applied, whether it is planar.
     #[serde(default)]
     pub input: InputReport,
+    /// The verified centreline against the curve exactly as given (before
+    /// smoothing), beside `metrics`, which are against the target the
+    /// design aimed at; absent in reports written before it was measured.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub as_given: Option<AsGiven>,
     /// What one patch makes within the bounds, and where the target asks
     /// for more (empty `out_of_reach`: all of it is within reach).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -89,6 +94,7 @@ impl DesignReport {
             profiles: outcome.profiles.clone(),
             at_limits: outcome.at_limits.clone(),
             input: outcome.input,
+            as_given: Some(outcome.as_given),
             reach: outcome.reach.clone(),
             layouts: outcome.layouts.clone(),
         }
