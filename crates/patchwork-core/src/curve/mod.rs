@@ -1,4 +1,4 @@
-//! Target curves: reading, validation, resampling, smoothing, differential
+//! Target curves: reading, validation, resampling, smoothing, splines, differential
 //! geometry (κ, τ, Frenet and Bishop frames), comparison (DTW, shape error) and
 //! preset curves.
 
@@ -13,6 +13,7 @@ mod profile;
 mod read;
 mod shape_error;
 mod smoothing;
+mod spline;
 
 pub use differential::{Analysis, AnalysisOptions, DerivativeScheme, analyse};
 pub use dtw::dtw;

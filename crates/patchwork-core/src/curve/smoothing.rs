@@ -1,6 +1,5 @@
 //! Gaussian smoothing along arc length, for noisy hand-drawn or digitised curves.
 
-use super::polyline::cumulative_length;
 use super::{Curve, CurveError, Point};
 use crate::cmaes::SeededRng;
 
@@ -10,15 +9,20 @@ impl Curve {
     /// (`p ↦ 2 p_end − p`), which keeps the end points and end tangents
     /// unbiased. `sigma_mm = 0` returns the curve unchanged.
     ///
-    /// The arc length is the *smoothed* curve's: noise larger than the point
-    /// spacing makes the raw polyline several times longer than the curve it
-    /// samples (seven times for 1.5 mm noise at 0.5 mm spacing), and a kernel
-    /// σ mm wide in that length covers a fraction of the points it should.
-    /// So the convolution of the raw points is repeated along the arc length
-    /// of its last result until that moves by less than
-    /// `REPARAMETRISATION_TOLERANCE` of the length (at most
-    /// `MAX_REPARAMETRISATIONS` times): one repeat for the reference curves
-    /// at σ = 1 % of their length, three for that noisy arc (a test pins it).
+    /// The arc length is the polyline's, scaled to the length of the smoothed
+    /// curve: noise lengthens the raw polyline (seven times for 1.5 mm noise
+    /// at 0.5 mm spacing, 7–90 % for hand-drawn strokes), and a kernel σ mm
+    /// wide in that length would cover a fraction of the curve it should.
+    /// The scale is the fixed point of (smoothed length) / (raw length),
+    /// reached in a few convolutions. One scale for the whole curve keeps the
+    /// points in their order and spacing: re-parametrising each point by the
+    /// smoothed curve's own arc length instead draws the kernel tighter at
+    /// every bend the smoothing cuts short, and repeated to a fixed point it
+    /// collapses points in pairs and cuts corners (4.8 % of the length from
+    /// the clean curve on a stroke with 0.3 mm noise). Spline strokes with
+    /// seeded noise (`examples/stroke_smoothing.rs`, 8 per noise level),
+    /// prepared for a design, against their clean curves: worst 0.12 % of the
+    /// length at 0.3 mm noise, 0.27 % at 1 mm, 0.44 % at 2 mm, 0.65 % at 3 mm.
     ///
     /// A circle of curvature κ shrinks by the factor exp(−κ²σ²/2), so σ well
     /// below the smallest radius of interest is safe: σ = 1 mm on a 20 mm radius
@@ -28,7 +32,8 @@ impl Curve {
     /// it). The reference curves (≥ 4 mm spacing) are unchanged to rounding
     /// at σ = 1 mm.
     pub fn smoothed(&self, sigma_mm: f64) -> Result<Curve, CurveError> {
-        self.smoothed_along(sigma_mm, MAX_REPARAMETRISATIONS)
+        let (points, _) = self.smoothed_along(sigma_mm, true)?;
+        Curve::from_points(points)
     }
 
     /// The Gaussian convolution of [`Curve::smoothed`] along the polyline's
@@ -38,7 +43,8 @@ impl Curve {
     /// measured with it, and with the repeat instead one draft run on the
     /// spring took another path and ended at 6.29 % shape error, not 1.23 %.
     pub fn convolved(&self, sigma_mm: f64) -> Result<Curve, CurveError> {
-        self.smoothed_along(sigma_mm, 0)
+        let (points, _) = self.smoothed_along(sigma_mm, false)?;
+        Curve::from_points(points)
     }
 
     /// [`Curve::smoothed`] with its bias removed by twicing (Tukey): the
@@ -47,25 +53,21 @@ impl Curve {
     /// curvature κ is no longer drawn in by a fraction κ²σ²/2 of its radius
     /// (0.3 mm on a 40 mm radius at σ = 5 mm) but by O(κ⁴σ⁴); noise is
     /// passed a little more.
+    ///
+    /// The residual is convolved along the same arc length as the points.
     pub fn smoothed_twice(&self, sigma_mm: f64) -> Result<Curve, CurveError> {
-        let once = self.smoothed(sigma_mm)?;
+        let (once, s) = self.smoothed_along(sigma_mm, true)?;
         if sigma_mm == 0.0 {
-            return Ok(once);
+            return Curve::from_points(once);
         }
         let residual: Vec<Point> = self
             .points()
             .iter()
-            .zip(once.points())
+            .zip(&once)
             .map(|(raw, smooth)| raw - smooth)
             .collect();
-        let correction = convolve(&residual, once.arc_length(), sigma_mm);
-        Curve::from_points(
-            once.points()
-                .iter()
-                .zip(&correction)
-                .map(|(p, c)| p + c)
-                .collect(),
-        )
+        let correction = convolve(&residual, &s, sigma_mm);
+        Curve::from_points(once.iter().zip(&correction).map(|(p, c)| p + c).collect())
     }
 
     /// The curve with seeded Gaussian noise, of standard deviation
@@ -83,39 +85,50 @@ impl Curve {
         )
     }
 
-    fn smoothed_along(&self, sigma_mm: f64, repeats: usize) -> Result<Curve, CurveError> {
+    /// The smoothed points and the arc length they were convolved along:
+    /// the polyline's own, or with `rescale` that scaled to the smoothed
+    /// curve's length (see [`Curve::smoothed`]).
+    fn smoothed_along(
+        &self,
+        sigma_mm: f64,
+        rescale: bool,
+    ) -> Result<(Vec<Point>, Vec<f64>), CurveError> {
         if !(sigma_mm.is_finite() && sigma_mm >= 0.0) {
             return Err(CurveError::InvalidSmoothing(sigma_mm));
         }
-        if sigma_mm == 0.0 {
-            return Ok(self.clone());
-        }
         let raw = self.points();
         let mut s = self.arc_length().to_vec();
+        if sigma_mm == 0.0 {
+            return Ok((raw.to_vec(), s));
+        }
         let mut smoothed = convolve(raw, &s, sigma_mm);
-        for _ in 0..repeats {
-            let next = cumulative_length(&smoothed);
-            let length = next[next.len() - 1].max(f64::MIN_POSITIVE);
-            let change = next
-                .iter()
-                .zip(&s)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max)
-                / length;
-            s = next;
-            if change < REPARAMETRISATION_TOLERANCE {
+        if !rescale {
+            return Ok((smoothed, s));
+        }
+        let raw_length = self.length().max(f64::MIN_POSITIVE);
+        let mut scale = 1.0;
+        for _ in 0..MAX_REPARAMETRISATIONS {
+            let next = polyline_length(&smoothed) / raw_length;
+            let settled = (next / scale - 1.0).abs() < REPARAMETRISATION_TOLERANCE;
+            scale = next;
+            s = self.arc_length().iter().map(|x| x * scale).collect();
+            if settled {
                 break;
             }
             smoothed = convolve(raw, &s, sigma_mm);
         }
-        Curve::from_points(smoothed)
+        Ok((smoothed, s))
     }
 }
 
-/// Repeats of the convolution at most.
-const MAX_REPARAMETRISATIONS: usize = 50;
-/// The largest change of any point's arc length, as a fraction of the
-/// length, at which the parametrisation counts as settled.
+fn polyline_length(points: &[Point]) -> f64 {
+    points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+}
+
+/// Rescalings of the arc length at most (the scale settles in a few).
+const MAX_REPARAMETRISATIONS: usize = 20;
+/// The relative change of the arc length's scale at which it counts as
+/// settled.
 const REPARAMETRISATION_TOLERANCE: f64 = 1e-3;
 
 /// The Gaussian convolution of `p`, parametrised by `s`, with the ends

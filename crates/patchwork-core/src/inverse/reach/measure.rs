@@ -24,10 +24,7 @@ pub fn analysed(curve: &Curve, bend_mm: f64) -> Analysis {
 
 /// [`analysed`] for a curve whose points are already smooth (the table's FE
 /// centrelines): the same Gaussian, once along the polyline's own arc
-/// length. The repeated smoothing's re-parametrisation can collapse the
-/// samples of a centreline whose rings are about σ apart (the compressible
-/// balloon's, 2.4 mm at σ = 2.5 mm) into pairs, and their κ spikes read as
-/// bends of a few millimetres' radius.
+/// length: a centreline has no noise to rescale its arc length for.
 pub fn analysed_smooth(curve: &Curve, bend_mm: f64) -> Analysis {
     let smooth = curve
         .convolved(0.25 * bend_mm)
