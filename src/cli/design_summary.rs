@@ -98,17 +98,24 @@ fn input_line(input: &InputReport) -> String {
         (true, false) => "; planar",
         (false, _) => "",
     };
-    format!("input:        {smoothing}{planar}\n")
+    let sparse = match &input.interpolated {
+        Some(i) => format!(
+            "; {} points {:.1} mm apart (chords {:.2} mm off the curve): read through a cubic spline of {} samples",
+            i.points, i.median_spacing_mm, i.sagitta_mm, i.samples
+        ),
+        None => String::new(),
+    };
+    format!("input:        {smoothing}{sparse}{planar}\n")
 }
 
-/// The design against the curve as given, where smoothing made the target
-/// the design aimed at another curve (empty otherwise: the figures above
-/// are then against the curve as given).
+/// The design against the curve as given, where smoothing or a spline
+/// through sparse points made the target the design aimed at another curve
+/// (empty otherwise: the figures above are then against the curve as given).
 fn as_given_line(r: &DesignReport) -> String {
     match &r.as_given {
-        Some(g) if r.input.smoothing_mm > 0.0 => format!(
-            "as given:     shape error {:.2} mm ({:.2} % of length) against the curve before smoothing \
-             ({:.1} mm long; the smoothed target {:.1} mm)\n",
+        Some(g) if r.input.smoothing_mm > 0.0 || r.input.interpolated.is_some() => format!(
+            "as given:     shape error {:.2} mm ({:.2} % of length) against the points as given \
+             ({:.1} mm long; the target aimed at {:.1} mm)\n",
             g.shape_error_mm, g.shape_error_percent, g.length_mm, r.target_length_mm
         ),
         _ => String::new(),

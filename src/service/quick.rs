@@ -164,7 +164,8 @@ pub async fn curve_route(
         Ok(Json(CurvePreview {
             report: CurveReport::new(&prepared),
             points_mm: xyz(&prepared),
-            given_mm: (input.smoothing_mm > 0.0).then(|| xyz(&curve)),
+            given_mm: (input.smoothing_mm > 0.0 || input.interpolated.is_some())
+                .then(|| xyz(&curve)),
             input,
         }))
     })

@@ -131,6 +131,9 @@ export class CurveInput {
         input.smoothing_mm > 0
           ? `noise ${num(input.noise_mm, 2)} mm found, smoothed with σ ${num(input.smoothing_mm, 2)} mm${input.automatic ? " (automatic)" : ""}`
           : "not smoothed",
+        input.interpolated
+          ? `${input.interpolated.points} points ${num(input.interpolated.median_spacing_mm, 2)} mm apart, read through a cubic spline`
+          : null,
         input.planar ? "planar" : null,
         `KSA's first guess: ${ksa.patches.length} patches`,
       ].filter(Boolean).join(" · ");

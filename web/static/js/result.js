@@ -10,11 +10,11 @@ import { drawUnrolled } from "./unrolled.js";
 
 const FIELDS = [["x_mm", "X (mm)"], ["y_mm", "Y (mm)"], ["h_mm", "H (mm)"], ["w_mm", "W (mm)"], ["theta_deg", "Θ (°)"]];
 
-// Where smoothing changed the target, the design against the curve as the
-// user gave it too.
+// Where smoothing or a spline through sparse points changed the target, the
+// design against the curve as the user gave it too.
 function asGiven(result) {
   const g = result.as_given;
-  if (!g || !(result.input?.smoothing_mm > 0)) return [];
+  if (!g || !(result.input?.smoothing_mm > 0 || result.input?.interpolated)) return [];
   return [["shape error, curve as given",
     `${num(g.shape_error_percent, 3)} % of its length (${num(g.shape_error_mm, 3)} mm RMS; before smoothing, ${num(g.length_mm, 4)} mm long)`]];
 }

@@ -80,3 +80,38 @@ fn dense_points_are_smoothed_at_a_sixteenth_of_sigma() {
     let error = crate::curve::shape_error(&prepared, &sparse, 200).unwrap();
     assert!(error.percent_of_length < 0.1, "{error:?}");
 }
+
+/// A helix exported as 22 points 24.5 mm apart (33° of turn each) is read
+/// through the spline, close to the helix; the authors' Hilbert and pancake
+/// curves are dense enough for their bends and stay as given, their spring
+/// (64 points 13 mm apart) is read through the spline.
+#[test]
+fn sparse_points_are_read_through_a_spline() {
+    let helix = Preset::helix(40.0, 70.0, 2.0).generate(22).unwrap();
+    let (prepared, report) = prepare(&helix, Smoothing::Auto, 0.01).unwrap();
+    let spline = report.interpolated.expect("sparse");
+    assert_eq!(spline.points, 22);
+    assert!((spline.median_spacing_mm - 24.5).abs() < 0.1, "{spline:?}");
+    assert_eq!(prepared.len(), spline.samples);
+    assert!(spline.samples > 500, "{spline:?}");
+    let off_helix = prepared
+        .points()
+        .iter()
+        .map(|p| ((p.x * p.x + p.y * p.y).sqrt() - 40.0).abs())
+        .fold(0.0, f64::max);
+    assert!(off_helix < 0.2, "{off_helix} mm");
+    assert_eq!(report.smoothing_mm, 0.0);
+    use crate::curve::ReferenceCurve;
+    for (curve, sparse) in [
+        (ReferenceCurve::Hilbert, false),
+        (ReferenceCurve::Pancake, false),
+        (ReferenceCurve::Spring, true),
+    ] {
+        let (_, report) = prepare(&curve.curve(), Smoothing::Auto, 0.01).unwrap();
+        assert_eq!(
+            report.interpolated.is_some(),
+            sparse,
+            "{curve:?}: {report:?}"
+        );
+    }
+}

@@ -12,17 +12,34 @@
 //! (KSA measures X from its own first patch) by the patches the two
 //! layouts share. The candidate is refined like the design, and kept only
 //! if its verified shape error is lower.
+//!
+//! A target that bends more gently still (an arc of radius 300 mm,
+//! κ = 0.0033 mm⁻¹, under even that fraction) would get no patch at all;
+//! on a curved target the finer tolerance is therefore also at most
+//! `GENTLE` of the target's 90th-percentile curvature, so its bends are
+//! marked however gentle. A target is curved when it strays from its
+//! best-fit line by more than `CURVED` of its length (RMS): a straight
+//! noisy stroke, whose smoothed curvature is noise, is not.
 
 use std::f64::consts::TAU;
 
 use serde::{Deserialize, Serialize};
 
-use crate::curve::Curve;
+use crate::curve::{AnalysisOptions, Curve, Point, analyse};
 use crate::design::{Design, Patch};
 use crate::ksa::{KsaParams, Stretch, ksa};
 
 /// The finer layout's curvature tolerance, as a fraction of the run's.
 pub const FINER: f64 = 0.4;
+
+/// The finer tolerance on a curved target is at most this fraction of its
+/// 90th-percentile curvature.
+pub const GENTLE: f64 = 0.5;
+
+/// A target straying from its best-fit line by more than this fraction of
+/// its length (RMS) is curved (a 100° arc: 13 %; 0.3 mm of noise on a
+/// 300 mm line: 0.1 %).
+const CURVED: f64 = 0.01;
 
 /// Space kept between an added patch and the design's own (mm).
 const CLEARANCE_MM: f64 = 1.0;
@@ -48,7 +65,7 @@ pub fn with_gentle_bends(
     params: &KsaParams,
 ) -> Option<Design> {
     let finer = KsaParams {
-        kappa_tol: FINER * kappa_tol,
+        kappa_tol: finer_tolerance(target, kappa_tol),
         l0_mm: design.balloon.length_mm,
         r0_mm: design.balloon.radius_mm,
         stretch: Stretch::Fixed(target.length() / design.balloon.length_mm),
@@ -75,6 +92,38 @@ pub fn with_gentle_bends(
         patches,
         ..design.clone()
     })
+}
+
+/// KSA's tolerance for the finer layout: `FINER` of the run's, and on a
+/// curved target at most `GENTLE` of its 90th-percentile curvature.
+pub fn finer_tolerance(target: &Curve, kappa_tol: f64) -> f64 {
+    let finer = FINER * kappa_tol;
+    if !is_curved(target) {
+        return finer;
+    }
+    let mut kappa = analyse(target, &AnalysisOptions::default()).curvature;
+    kappa.sort_by(f64::total_cmp);
+    let bend = kappa[kappa.len() * 9 / 10];
+    match bend > 0.0 {
+        true => finer.min(GENTLE * bend),
+        false => finer,
+    }
+}
+
+/// Whether the curve strays from its best-fit line by more than `CURVED`
+/// of its length (RMS; the scatter's two smaller eigenvalues are the
+/// squared distances from that line).
+fn is_curved(curve: &Curve) -> bool {
+    let points = curve.points();
+    let n = points.len() as f64;
+    let mean = points.iter().sum::<Point>() / n;
+    let scatter = points
+        .iter()
+        .map(|p| (p - mean) * (p - mean).transpose())
+        .sum::<nalgebra::Matrix3<f64>>();
+    let eigen = scatter.symmetric_eigen().eigenvalues;
+    let off_line = (eigen.sum() - eigen.max()).max(0.0);
+    (off_line / n).sqrt() > CURVED * curve.length()
 }
 
 /// Whether two patches' axial spans come within `CLEARANCE_MM`.

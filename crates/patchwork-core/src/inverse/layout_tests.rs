@@ -59,3 +59,36 @@ fn added_patches_are_turned_into_the_designs_frame() {
     assert!((seam - (0.5 - 19.0 + circumference)).abs() < 1e-9, "{seam}");
     assert_eq!(frame_offset(&[], &ksa, circumference), 0.0);
 }
+
+/// An arc of radius 300 mm (κ = 0.0033 mm⁻¹, under even 0.4 of KSA's 0.01)
+/// is curved, so the finer tolerance drops to half its curvature and the
+/// design gets patches along it; a straight line with 0.3 mm of noise is
+/// not curved and keeps 0.4 of KSA's tolerance.
+#[test]
+fn a_very_gentle_arc_gets_patches_and_a_noisy_line_does_not_lower_the_tolerance() {
+    let arc = Preset::Arc(ArcParams {
+        radius_mm: 300.0,
+        angle_deg: 100.0,
+    })
+    .generate(400)
+    .unwrap();
+    let tolerance = finer_tolerance(&arc, 0.01);
+    assert!(
+        (tolerance - GENTLE / 300.0).abs() < 0.05 * GENTLE / 300.0,
+        "{tolerance}"
+    );
+    let empty = balloon(150.0, vec![]);
+    let params = KsaParams {
+        max_patch_mm: Some(30.0),
+        ..KsaParams::default()
+    };
+    let finer = with_gentle_bends(&empty, &arc, 0.01, &params).unwrap();
+    assert!(finer.patches.len() >= 4, "{:?}", finer.patches);
+    let line = Preset::from_name("line", serde_json::json!({"length_mm": 300}))
+        .unwrap()
+        .curve(Some(400))
+        .unwrap()
+        .with_noise(0.3 / 300.0, 3)
+        .unwrap();
+    assert_eq!(finer_tolerance(&line, 0.01), FINER * 0.01);
+}

@@ -80,9 +80,10 @@ pub struct Metrics {
 }
 
 /// The verified centreline against the curve exactly as the user gave it,
-/// before any smoothing: [`Metrics`] measure it against the prepared target
-/// the design aimed at, which smoothing may have moved (rounded corners,
-/// jitter removed, a noisy stroke shortened). With no smoothing both are
+/// before any smoothing or spline: [`Metrics`] measure it against the
+/// prepared target the design aimed at, which smoothing may have moved
+/// (rounded corners, jitter removed, a noisy stroke shortened) and a spline
+/// through sparse points may have rounded. When neither applied both are
 /// the same curve.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct AsGiven {
