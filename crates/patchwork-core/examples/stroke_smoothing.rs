@@ -1,5 +1,5 @@
-//! How the target preparation treats hand-drawn strokes: Catmull–Rom
-//! splines through eight seeded random points (350 samples, 500–800 mm),
+//! How the target preparation treats hand-drawn strokes: cubic splines
+//! through eight seeded random points (350 samples, 540–870 mm),
 //! with 0.3–3 mm of seeded noise per coordinate, prepared as a design
 //! prepares them (automatic smoothing) and compared with their clean curves
 //! (shape error, % of length). "inflation" is how much longer the noisy
