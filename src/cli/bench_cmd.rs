@@ -37,7 +37,9 @@ pub struct BenchArgs {
     /// Which suite: quick, reference (the presets and their variants on the
     /// reference curves), curves (curves unlike the references, draft and
     /// standard), round-trips (simulated random designs, the layout
-    /// unknown), or report (BENCHMARKS.md: forward solves, curves under
+    /// unknown), users (curves as users send them: gentle arcs, sparse CAD
+    /// exports, noisy strokes, new kinds; draft), or report (BENCHMARKS.md:
+    /// forward solves, curves under
     /// draft and standard, round trips under draft; about 45 minutes on 2
     /// cores).
     #[arg(long, value_enum, default_value = "reference")]
@@ -169,6 +171,7 @@ fn command_line(args: &BenchArgs, chosen: Suite) -> String {
         Suite::Reference => "",
         Suite::Curves => " --suite curves",
         Suite::RoundTrips => " --suite round-trips",
+        Suite::Users => " --suite users",
         Suite::Report => " --suite report",
     };
     let mut command = format!(

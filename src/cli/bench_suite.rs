@@ -25,6 +25,10 @@ pub enum Suite {
     /// designs of 4–12 patches (lone patches and graded trains), simulated,
     /// then designed from the centreline alone under draft and standard.
     RoundTrips,
+    /// Curves as users send them: gentle arcs, sparse CAD exports, noisy
+    /// strokes with their clean strokes, and five kinds the other suites
+    /// lack, under draft.
+    Users,
     /// The benchmark report: the forward solve per mesh, the curve suite
     /// under draft and standard, the round trips under draft.
     Report,
@@ -95,7 +99,7 @@ impl Setting {
     }
 
     /// The preset as users get it (cold starts, its budgets, corrected).
-    fn preset(name: &'static str, fidelity: Fidelity) -> Setting {
+    pub(super) fn preset(name: &'static str, fidelity: Fidelity) -> Setting {
         Setting::new(name, fidelity, fidelity.budget(), fidelity.refine_budget())
     }
 
@@ -121,6 +125,7 @@ pub fn suite(suite: Suite) -> Result<(Targets, Vec<Setting>)> {
         Suite::Reference => reference(),
         Suite::Curves => any_curve(),
         Suite::RoundTrips => round_trips(),
+        Suite::Users => super::bench_users::users(),
         Suite::Report => anyhow::bail!("the report runs several suites (bench_report)"),
     }
 }

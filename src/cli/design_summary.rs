@@ -2,6 +2,7 @@
 //! to the target and where it is out of reach, the stages, limits hit and
 //! the patches.
 
+use patchwork_core::inverse::input::SPARSE_SPACING_MM;
 use patchwork_core::inverse::layout::LayoutTrial;
 use patchwork_core::inverse::reach::ReachReport;
 use patchwork_core::inverse::{DesignReport, InputReport, RefineSummary};
@@ -90,6 +91,13 @@ fn input_line(input: &InputReport) -> String {
             input.noise_mm, input.smoothing_mm
         ),
         (true, false) => format!("smoothed with σ {:.1} mm (--smooth-mm)", input.smoothing_mm),
+        (false, true)
+            if input
+                .interpolated
+                .is_some_and(|i| i.median_spacing_mm > SPARSE_SPACING_MM) =>
+        {
+            "as given (points too far apart to find noise)".to_string()
+        }
         (false, true) => "as given (no noise found)".to_string(),
         (false, false) => "as given (--smooth-mm 0)".to_string(),
     };

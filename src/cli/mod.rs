@@ -6,6 +6,7 @@ mod bench_replot;
 mod bench_report;
 mod bench_suite;
 mod bench_text;
+mod bench_users;
 mod curve_cmd;
 pub(crate) mod design_cmd;
 mod design_summary;

@@ -1,5 +1,5 @@
-//! How the target preparation treats hand-drawn strokes: cubic splines
-//! through eight seeded random points (350 samples, 540–870 mm),
+//! How the target preparation treats hand-drawn strokes (`seeded_stroke`:
+//! cubic splines through eight seeded random points, 350 samples, 540–870 mm)
 //! with 0.3–3 mm of seeded noise per coordinate, prepared as a design
 //! prepares them (automatic smoothing) and compared with their clean curves
 //! (shape error, % of length). "inflation" is how much longer the noisy
@@ -8,8 +8,7 @@
 //!
 //! cargo run --release -p patchwork-core --example stroke_smoothing
 
-use patchwork_core::cmaes::SeededRng;
-use patchwork_core::curve::{Curve, Point, shape_error};
+use patchwork_core::curve::{seeded_stroke, shape_error};
 use patchwork_core::inverse::input::{Smoothing, prepare};
 
 fn main() {
@@ -19,17 +18,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|");
     for noise in [0.3, 1.0, 2.0, 3.0] {
         for seed in 1..=8u64 {
-            let mut rng = SeededRng::new(seed);
-            let ctrl: Vec<Point> = (0..8)
-                .map(|i| {
-                    Point::new(
-                        40.0 * i as f64 + 10.0 * rng.normal(),
-                        40.0 * rng.normal(),
-                        40.0 * rng.normal(),
-                    )
-                })
-                .collect();
-            let clean = Curve::through(&ctrl, 350).unwrap();
+            let clean = seeded_stroke(seed, 350).unwrap();
             let noisy = clean.with_noise(noise / clean.length(), seed).unwrap();
             let (prepared, report) = prepare(&noisy, Smoothing::Auto, 0.01).unwrap();
             let error = shape_error(&prepared, &clean, 200).unwrap();

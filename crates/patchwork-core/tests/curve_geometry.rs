@@ -4,7 +4,7 @@ use nalgebra::{Rotation3, Vector3};
 use patchwork_core::curve::presets::{HelixParams, LineParams, TrefoilParams};
 use patchwork_core::curve::{
     AnalysisOptions, Curve, Point, Preset, ReferenceCurve, analyse, bishop_frames, dtw,
-    frenet_frames, interpolate, shape_error,
+    frenet_frames, interpolate, seeded_stroke, shape_error,
 };
 use patchwork_core::inverse::input::Smoothing;
 use proptest::prelude::*;
@@ -312,17 +312,7 @@ fn polyline_resampling_regression_tight_helix() {
 fn noisy_strokes_are_prepared_close_to_their_clean_curves() {
     for noise in [0.3, 1.0] {
         for seed in 1..=8u64 {
-            let mut rng = patchwork_core::cmaes::SeededRng::new(seed);
-            let control: Vec<Point> = (0..8)
-                .map(|i| {
-                    Point::new(
-                        40.0 * i as f64 + 10.0 * rng.normal(),
-                        40.0 * rng.normal(),
-                        40.0 * rng.normal(),
-                    )
-                })
-                .collect();
-            let clean = Curve::through(&control, 350).unwrap();
+            let clean = seeded_stroke(seed, 350).unwrap();
             let noisy = clean.with_noise(noise / clean.length(), seed).unwrap();
             let (prepared, report) =
                 patchwork_core::inverse::input::prepare(&noisy, Smoothing::Auto, 0.01).unwrap();

@@ -60,6 +60,25 @@ impl Curve {
     }
 }
 
+/// A smooth random stroke, as a hand might draw in 3D: the cubic spline
+/// through eight points 40 mm apart along x, each moved by seeded Gaussian
+/// offsets (σ 10 mm along x, 40 mm across), `samples` points (500–900 mm
+/// long). For studies, tests and the bench: the same seed gives the same
+/// stroke.
+pub fn seeded_stroke(seed: u64, samples: usize) -> Result<Curve, CurveError> {
+    let mut rng = crate::cmaes::SeededRng::new(seed);
+    let control: Vec<Point> = (0..8)
+        .map(|i| {
+            Point::new(
+                40.0 * i as f64 + 10.0 * rng.normal(),
+                40.0 * rng.normal(),
+                40.0 * rng.normal(),
+            )
+        })
+        .collect();
+    Curve::through(&control, samples)
+}
+
 /// The spline's second derivatives at the points (one vector per point),
 /// from the interior continuity rows and the not-a-knot ends; equal at all
 /// three points of a three-point curve (its parabola).

@@ -28,7 +28,7 @@ const SAMPLES_PER_SIGMA: f64 = 16.0;
 /// Points further apart than this (median, mm) are read through a spline:
 /// half KSA's merge distance (20 mm), so that a bend gets at least two
 /// marked samples, and with them a patch.
-const SPARSE_SPACING_MM: f64 = 10.0;
+pub const SPARSE_SPACING_MM: f64 = 10.0;
 
 /// Points whose chords stray further than this from the smooth curve
 /// through them (mm; a chord c turning by θ at its ends strays by about
@@ -61,7 +61,8 @@ pub enum Smoothing {
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct InputReport {
     /// The noise found on the samples (mm per coordinate, standard
-    /// deviation).
+    /// deviation); 0 for points too far apart to tell noise from bends
+    /// (median spacing over 10 mm; `interpolated`).
     pub noise_mm: f64,
     /// The σ of the Gaussian smoothing applied (mm); 0: none.
     pub smoothing_mm: f64,
@@ -101,7 +102,13 @@ pub fn prepare(
     kappa_tol: f64,
 ) -> Result<(Curve, InputReport), CurveError> {
     check_smoothing(target, smoothing)?;
-    let noise = target.noise_estimate();
+    // Points this far apart have no noise to find: the local fits that
+    // estimate it would read the bends as noise. (Only the spacing: noise
+    // turns every chord, and the sagitta test would read it as sparseness.)
+    let noise = match median_spacing(target) > SPARSE_SPACING_MM {
+        true => 0.0,
+        false => target.noise_estimate(),
+    };
     let (sigma, automatic) = match smoothing {
         Smoothing::Sigma(sigma) => (sigma, false),
         Smoothing::Auto if noise < NOISE_FLOOR_MM => (0.0, true),
@@ -142,13 +149,24 @@ pub fn prepare(
     Ok((prepared, report))
 }
 
+/// The median distance between consecutive points (mm).
+fn median_spacing(curve: &Curve) -> f64 {
+    let mut chords: Vec<f64> = curve
+        .points()
+        .windows(2)
+        .map(|w| (w[1] - w[0]).norm())
+        .collect();
+    chords.sort_by(f64::total_cmp);
+    chords[chords.len() / 2]
+}
+
 /// The median spacing and the 90th percentile of the sagitta (c θ / 8, with
 /// c the mean of the two chords at a point and θ their turn) of points too
 /// sparse for their bends; none when they are dense enough. The percentile,
 /// not the largest: one kink does not make a curve sparse.
 fn sparseness(curve: &Curve) -> Option<(f64, f64)> {
     let points = curve.points();
-    let mut chords: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
+    let chords: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
     let mut sagittas: Vec<f64> = points
         .windows(3)
         .zip(chords.windows(2))
@@ -159,8 +177,7 @@ fn sparseness(curve: &Curve) -> Option<(f64, f64)> {
         .collect();
     sagittas.sort_by(f64::total_cmp);
     let sagitta = sagittas[sagittas.len() * 9 / 10];
-    chords.sort_by(f64::total_cmp);
-    let median = chords[chords.len() / 2];
+    let median = median_spacing(curve);
     (median > SPARSE_SPACING_MM || sagitta > SPARSE_SAGITTA_MM).then_some((median, sagitta))
 }
 
