@@ -40,7 +40,7 @@ pub struct BenchArgs {
     /// unknown), users (curves as users send them: gentle arcs, sparse CAD
     /// exports, noisy strokes, new kinds; draft), or report (BENCHMARKS.md:
     /// forward solves, curves under
-    /// draft and standard, round trips under draft; about 45 minutes on 2
+    /// draft and standard, round trips under draft; about 80 minutes on 2
     /// cores).
     #[arg(long, value_enum, default_value = "reference")]
     suite: Suite,

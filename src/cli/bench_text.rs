@@ -118,11 +118,13 @@ pub fn known_limits(curves: &[Row]) -> String {
          design.json). Those designs do their best and miss there. {shown}\n\
          - **Corners are not rounded for you.** A kink is reported out of reach \
          where it is and designed as given; the balloon rounds it.\n\
-         - **Noise on coarsely sampled curves.** Where points are far apart for \
-         the curve's bends, the noise estimate reads the residual as the \
-         curve's own and smooths little: set `--smooth-mm` by hand there.\n\
+         - **Noise on sparse points.** Points more than 10 mm apart are read \
+         through a cubic spline, noise and all (no noise estimate can tell it \
+         from the bends there): set `--smooth-mm` by hand for noisy sparse \
+         input.\n\
          - **The layout** is KSA's (trains of patches where a bend is longer \
-         than one patch), plus a trial of patches on gentle bends: the search \
+         than one patch), plus a trial of patches on gentle bends (however \
+         gentle, on a curved target): the search \
          does not insert, split, merge or remove patches. Round trips match the \
          shape with fewer patches than the truth.\n\
          - **Planar targets get planar designs** (Θ = 0 on two opposite \
