@@ -118,7 +118,7 @@ pub fn known_limits(curves: &[Row]) -> String {
          design.json). Those designs do their best and miss there. {shown}\n\
          - **Corners are not rounded for you.** A kink is reported out of reach \
          where it is and designed as given; the balloon rounds it.\n\
-         - **Noise on sparse points.** Points more than 10 mm apart are read \
+         - **Noise on sparse points.** Points more than 20 mm apart are read \
          through a cubic spline, noise and all (no noise estimate can tell it \
          from the bends there): set `--smooth-mm` by hand for noisy sparse \
          input.\n\

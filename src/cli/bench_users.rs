@@ -47,7 +47,7 @@ fn gentle_arcs() -> Result<Vec<Target>> {
         .collect()
 }
 
-/// Helices, a conical spiral and a stroke exported with 15–30 points.
+/// Helices, a conical spiral and a stroke exported with 15–22 points.
 fn sparse_exports() -> Result<Vec<Target>> {
     Ok(vec![
         named(
@@ -67,8 +67,8 @@ fn sparse_exports() -> Result<Vec<Target>> {
             )?,
         ),
         named(
-            "CAD conical spiral, 30 points",
-            preset("spiral", json!({}), Some(30))?,
+            "CAD conical spiral, 20 points",
+            preset("spiral", json!({}), Some(20))?,
         ),
         named(
             "CAD spline stroke, 20 points",

@@ -17,9 +17,11 @@ pub struct CurveInput {
     /// Units of the file's coordinates (JSON's own `units` field wins).
     #[arg(long, default_value = "mm", value_parser = parse_units)]
     pub units: Units,
-    /// Gaussian smoothing along arc length, σ in mm (0: off). `design`
-    /// chooses it from the noise it finds on the points when not given;
-    /// the other commands then take the curve as given.
+    /// Gaussian smoothing along arc length, σ in mm (0: off, and `design`
+    /// takes the points exactly as given, without reading sparse points
+    /// through a spline). `design` chooses it from the noise it finds on
+    /// the points when not given; the other commands then take the curve as
+    /// given.
     #[arg(long, allow_negative_numbers = true)]
     pub smooth_mm: Option<f64>,
 }
