@@ -618,6 +618,11 @@ fn design_reports_what_is_out_of_reach() {
         summary.contains("smoothed with σ 0.5 mm (--smooth-mm)"),
         "{summary}"
     );
+    // Its error is high, and the summary says why, the reach first.
+    assert!(
+        summary.contains("short:        shape error above 1 %: the target bends or twists beyond"),
+        "{summary}"
+    );
     // The design is measured against the curve as given too: the smoothed
     // target is a little shorter than the polyline given.
     assert!(summary.contains("as given:     shape error "), "{summary}");
@@ -653,6 +658,11 @@ fn design_reports_what_is_out_of_reach() {
         "{span} {tightest}"
     );
     assert_eq!(report["input"]["automatic"], true);
+    assert_eq!(
+        report["shortfalls"][0]["cause"], "out_of_reach",
+        "{}",
+        report["shortfalls"]
+    );
     assert_one_line_error(&run(&["--smooth-mm", "-1"]), "--smooth-mm");
 }
 

@@ -5,6 +5,7 @@
 use patchwork_core::inverse::input::SPARSE_SPACING_MM;
 use patchwork_core::inverse::layout::LayoutTrial;
 use patchwork_core::inverse::reach::ReachReport;
+use patchwork_core::inverse::shortfall::HIGH_ERROR_PERCENT;
 use patchwork_core::inverse::{DesignReport, InputReport, RefineSummary};
 
 use super::output::patch_table;
@@ -32,6 +33,7 @@ pub fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
     );
     s.push_str(&input_line(&r.input));
     s.push_str(&as_given_line(r));
+    s.push_str(&shortfall_line(r));
     s.push_str(&reach_lines(r.reach.as_ref()));
     s.push_str(&refine_line("refine:      ", r.refine.as_ref()));
     s.push_str(&layout_lines(&r.layouts));
@@ -128,6 +130,18 @@ fn as_given_line(r: &DesignReport) -> String {
         ),
         _ => String::new(),
     }
+}
+
+/// Why the shape error is high, when it is.
+fn shortfall_line(r: &DesignReport) -> String {
+    if r.shortfalls.is_empty() {
+        return String::new();
+    }
+    let causes: Vec<String> = r.shortfalls.iter().map(|c| c.message()).collect();
+    format!(
+        "short:        shape error above {HIGH_ERROR_PERCENT} %: {}\n",
+        causes.join("; ")
+    )
 }
 
 /// Whether the target is within reach, and where not.

@@ -19,6 +19,21 @@ function asGiven(result) {
     `${num(g.shape_error_percent, 3)} % of its length (${num(g.shape_error_mm, 3)} mm RMS; before smoothing, ${num(g.length_mm, 4)} mm long)`]];
 }
 
+// Where the shape error is above 1 %, the causes the run found.
+const CAUSES = {
+  out_of_reach: (c) => `the target bends or twists beyond one patch over ${c.stretches} stretch(es)`,
+  at_limits: (c) => `${c.patches} patch(es) on a fabrication limit`,
+  budget_spent: () => "the search's budget ran out",
+  layouts_exhausted: (c) => `the ${c.tried} layouts tried reached no lower`,
+  no_patches: () => "no layout marked a bend for a patch",
+  settled: () => "the search settled in a local optimum",
+};
+function shortfalls(result) {
+  const causes = result.shortfalls ?? [];
+  if (!causes.length) return [];
+  return [["why above 1 %", causes.map((c) => (CAUSES[c.cause] ?? (() => c.cause))(c)).join("; ")]];
+}
+
 export async function showResult(page, jobId, result, preview) {
   const target = preview?.points_mm;
   const m = result.metrics;
@@ -26,6 +41,7 @@ export async function showResult(page, jobId, result, preview) {
   const rows = [
     ["shape error", `${num(m.shape_error_percent, 3)} % of the length (${num(m.shape_error_mm, 3)} mm RMS)`],
     ...asGiven(result),
+    ...shortfalls(result),
     ["DTW κ, τ", `${num(m.dtw_curvature, 3)}, ${num(m.dtw_torsion, 3)}`],
     ["target", `${num(result.target_length_mm, 4)} mm`],
     ["inflated", `${num(result.inflated_length_mm, 4)} mm`],

@@ -15,6 +15,7 @@ use super::objective::SHAPE_SAMPLES;
 use super::outcome::{AsGiven, DesignOutcome, DesignProgress};
 use super::plan::Plan;
 use super::run::{Context, Observer, Run, Setup};
+use super::shortfall::{RunFacts, shortfalls};
 use crate::curve::{Curve, shape_error};
 
 /// Runs the plan from the start, with caches of its own; `observer` hears
@@ -70,9 +71,18 @@ fn outcome(
         &run.setup.tuning.objective,
     );
     let as_given = as_given(&simulation.centreline, given);
+    let at_limits = at_limits(&run.design.patches, &run.setup.settings.bounds);
+    let shortfalls = shortfalls(&RunFacts {
+        shape_error_percent: metrics.shape_error_percent,
+        patches: run.design.patches.len(),
+        reach: run.reach.as_ref(),
+        at_limits: &at_limits,
+        termination: run.termination,
+        layouts: &run.layouts,
+    });
     let state = run.state;
     Ok(DesignOutcome {
-        at_limits: at_limits(&run.design.patches, &run.setup.settings.bounds),
+        at_limits,
         profiles,
         inflated_length_mm: simulation.inflated_length_mm,
         uninflated_length_to_cut_mm: run.design.balloon.length_mm,
@@ -96,6 +106,7 @@ fn outcome(
         as_given,
         reach: run.reach,
         layouts: run.layouts,
+        shortfalls,
         elapsed: Duration::from_secs_f64(ctx.elapsed_s()),
     })
 }

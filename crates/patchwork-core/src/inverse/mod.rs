@@ -34,6 +34,7 @@ mod refine;
 pub mod report;
 mod run;
 mod settings;
+pub mod shortfall;
 mod stages;
 mod tuning;
 pub mod variables;

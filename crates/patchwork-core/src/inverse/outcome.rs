@@ -8,6 +8,7 @@ use super::input::InputReport;
 use super::layout::LayoutTrial;
 use super::limits::AtLimit;
 use super::reach::ReachReport;
+use super::shortfall::Shortfall;
 use crate::cmaes::Termination;
 use crate::design::Design;
 use crate::fe::Simulation;
@@ -180,5 +181,7 @@ pub struct DesignOutcome {
     /// The layouts tried after the refine and what each reached; empty when
     /// the plan tried none.
     pub layouts: Vec<LayoutTrial>,
+    /// Why the shape error is high, when it is (`shortfall.rs`).
+    pub shortfalls: Vec<Shortfall>,
     pub elapsed: Duration,
 }

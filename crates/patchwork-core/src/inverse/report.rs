@@ -8,6 +8,7 @@ use super::layout::LayoutTrial;
 use super::limits::AtLimit;
 use super::outcome::{AsGiven, DesignOutcome, Metrics, Profiles, RefineSummary, SearchEnd};
 use super::reach::ReachReport;
+use super::shortfall::Shortfall;
 use crate::design::Design;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -64,6 +65,10 @@ pub struct DesignReport {
     /// chosen; empty when none was tried.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub layouts: Vec<LayoutTrial>,
+    /// Why the shape error is above 1 % of the length, when it is; absent
+    /// otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shortfalls: Vec<Shortfall>,
 }
 
 impl DesignReport {
@@ -97,6 +102,7 @@ impl DesignReport {
             as_given: Some(outcome.as_given),
             reach: outcome.reach.clone(),
             layouts: outcome.layouts.clone(),
+            shortfalls: outcome.shortfalls.clone(),
         }
     }
 }

@@ -1,0 +1,181 @@
+//! Why a design's shape error stayed high: every design more than
+//! `HIGH_ERROR_PERCENT` of its length off the target it aimed at says which
+//! of the known causes apply, so that no miss is silent.
+
+use serde::{Deserialize, Serialize};
+
+use super::layout::LayoutTrial;
+use super::limits::AtLimit;
+use super::outcome::SearchEnd;
+use super::reach::ReachReport;
+use crate::cmaes::Termination;
+
+/// A shape error above this (% of the target's length) is explained: twice
+/// the median goal for curves within reach, and above the worst of the
+/// curve suite within reach under `draft` (BENCHMARKS.md).
+pub const HIGH_ERROR_PERCENT: f64 = 1.0;
+
+/// One cause of a high shape error.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "cause", rename_all = "snake_case")]
+pub enum Shortfall {
+    /// The target bends or twists more than a patch within the bounds
+    /// makes over these stretches (`reach`).
+    OutOfReach { stretches: usize },
+    /// Patches sit on fabrication limits (`at_limits`): the bounds stop
+    /// what the target asks for.
+    AtLimits { patches: usize },
+    /// The search's evaluation budget ran out before it settled: a larger
+    /// `--budget` (or `standard`) may do better.
+    BudgetSpent,
+    /// Every layout tried (KSA's, and patches on gentle bends) was refined
+    /// and none came lower (`layouts`).
+    LayoutsExhausted { tried: usize },
+    /// The design has no patch: no layout marked a bend on the target.
+    NoPatches,
+    /// None of the above: the search settled in a local optimum.
+    Settled,
+}
+
+impl Shortfall {
+    /// The cause in words, for the CLI and the web app.
+    pub fn message(&self) -> String {
+        match self {
+            Shortfall::OutOfReach { stretches } => format!(
+                "the target bends or twists beyond what one patch makes over {stretches} stretch(es) (see reach)"
+            ),
+            Shortfall::AtLimits { patches } => format!(
+                "{patches} patch(es) on a fabrication limit (relax --bounds if the fabrication allows)"
+            ),
+            Shortfall::BudgetSpent => {
+                "the search's budget ran out (a larger --budget or --fidelity standard may do better)"
+                    .into()
+            }
+            Shortfall::LayoutsExhausted { tried } => {
+                format!("the {tried} layouts tried reached no lower")
+            }
+            Shortfall::NoPatches => "no layout marked a bend for a patch".into(),
+            Shortfall::Settled => {
+                "the search settled in a local optimum (another --seed may do better)".into()
+            }
+        }
+    }
+}
+
+/// What a finished run knows of itself, for [`shortfalls`].
+pub struct RunFacts<'a> {
+    pub shape_error_percent: f64,
+    pub patches: usize,
+    pub reach: Option<&'a ReachReport>,
+    pub at_limits: &'a [AtLimit],
+    pub termination: SearchEnd,
+    pub layouts: &'a [LayoutTrial],
+}
+
+/// The causes of a shape error above `HIGH_ERROR_PERCENT`, most telling
+/// first; empty when the error is not high.
+pub fn shortfalls(run: &RunFacts<'_>) -> Vec<Shortfall> {
+    if run.shape_error_percent.is_finite() && run.shape_error_percent <= HIGH_ERROR_PERCENT {
+        return vec![];
+    }
+    let mut causes = Vec::new();
+    if let Some(reach) = run.reach.filter(|r| !r.reachable()) {
+        causes.push(Shortfall::OutOfReach {
+            stretches: reach.out_of_reach.len(),
+        });
+    }
+    if run.patches == 0 {
+        causes.push(Shortfall::NoPatches);
+    }
+    let pinned = {
+        let mut patches: Vec<usize> = run.at_limits.iter().map(|a| a.patch).collect();
+        patches.dedup();
+        patches.len()
+    };
+    if pinned > 0 {
+        causes.push(Shortfall::AtLimits { patches: pinned });
+    }
+    if run.termination == SearchEnd::Optimizer(Termination::MaxEvaluations) && run.patches > 0 {
+        causes.push(Shortfall::BudgetSpent);
+    }
+    if run.layouts.len() > 1 {
+        causes.push(Shortfall::LayoutsExhausted {
+            tried: run.layouts.len(),
+        });
+    }
+    if causes.is_empty() {
+        causes.push(Shortfall::Settled);
+    }
+    causes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn facts(error: f64, patches: usize, termination: SearchEnd) -> RunFacts<'static> {
+        RunFacts {
+            shape_error_percent: error,
+            patches,
+            reach: None,
+            at_limits: &[],
+            termination,
+            layouts: &[],
+        }
+    }
+
+    #[test]
+    fn a_low_error_needs_no_explanation_and_a_high_one_always_gets_one() {
+        let stalled = SearchEnd::STALLED;
+        assert!(shortfalls(&facts(0.4, 5, stalled)).is_empty());
+        assert_eq!(
+            shortfalls(&facts(3.0, 5, stalled)),
+            vec![Shortfall::Settled]
+        );
+        assert_eq!(
+            shortfalls(&facts(f64::INFINITY, 5, stalled)),
+            vec![Shortfall::Settled]
+        );
+        let spent = SearchEnd::Optimizer(Termination::MaxEvaluations);
+        assert_eq!(
+            shortfalls(&facts(22.0, 0, spent)),
+            vec![Shortfall::NoPatches]
+        );
+        assert_eq!(
+            shortfalls(&facts(2.0, 4, spent)),
+            vec![Shortfall::BudgetSpent]
+        );
+    }
+
+    #[test]
+    fn limits_and_layouts_are_counted() {
+        let limit = |patch| AtLimit {
+            patch,
+            field: "h_mm".into(),
+            value: 30.0,
+            bound: "bounds.h_max_mm".into(),
+            limit: 30.0,
+            beyond: false,
+        };
+        let limits = [limit(1), limit(1), limit(3)];
+        let trial = |chosen| LayoutTrial {
+            layout: "KSA's (refined)".into(),
+            patches: 3,
+            shape_error_percent: 2.0,
+            chosen,
+        };
+        let layouts = [trial(true), trial(false)];
+        let run = RunFacts {
+            at_limits: &limits,
+            layouts: &layouts,
+            ..facts(2.0, 3, SearchEnd::STALLED)
+        };
+        assert_eq!(
+            shortfalls(&run),
+            vec![
+                Shortfall::AtLimits { patches: 2 },
+                Shortfall::LayoutsExhausted { tried: 2 }
+            ]
+        );
+    }
+}
