@@ -12,10 +12,11 @@ use super::errors::DesignRunError;
 use super::input::prepare;
 use super::limits::at_limits;
 use super::objective::SHAPE_SAMPLES;
-use super::outcome::{AsGiven, DesignOutcome, DesignProgress};
+use super::outcome::{AsGiven, DesignOutcome, DesignProgress, SearchEnd};
 use super::plan::Plan;
 use super::run::{Context, Observer, Run, Setup};
 use super::shortfall::{RunFacts, shortfalls};
+use crate::cmaes::Termination;
 use crate::curve::{Curve, shape_error};
 
 /// Runs the plan from the start, with caches of its own; `observer` hears
@@ -77,7 +78,7 @@ fn outcome(
         patches: run.design.patches.len(),
         reach: run.reach.as_ref(),
         at_limits: &at_limits,
-        termination: run.termination,
+        budget_spent: run.termination == SearchEnd::Optimizer(Termination::MaxEvaluations),
         layouts: &run.layouts,
     });
     let state = run.state;

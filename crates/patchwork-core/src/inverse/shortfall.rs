@@ -6,9 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use super::layout::LayoutTrial;
 use super::limits::AtLimit;
-use super::outcome::SearchEnd;
 use super::reach::ReachReport;
-use crate::cmaes::Termination;
 
 /// A shape error above this (% of the target's length) is explained: twice
 /// the median goal for curves within reach, and above the worst of the
@@ -68,7 +66,8 @@ pub struct RunFacts<'a> {
     pub patches: usize,
     pub reach: Option<&'a ReachReport>,
     pub at_limits: &'a [AtLimit],
-    pub termination: SearchEnd,
+    /// The search ended on its evaluation budget.
+    pub budget_spent: bool,
     pub layouts: &'a [LayoutTrial],
 }
 
@@ -95,7 +94,7 @@ pub fn shortfalls(run: &RunFacts<'_>) -> Vec<Shortfall> {
     if pinned > 0 {
         causes.push(Shortfall::AtLimits { patches: pinned });
     }
-    if run.termination == SearchEnd::Optimizer(Termination::MaxEvaluations) && run.patches > 0 {
+    if run.budget_spent && run.patches > 0 {
         causes.push(Shortfall::BudgetSpent);
     }
     if run.layouts.len() > 1 {
@@ -113,20 +112,20 @@ pub fn shortfalls(run: &RunFacts<'_>) -> Vec<Shortfall> {
 mod tests {
     use super::*;
 
-    fn facts(error: f64, patches: usize, termination: SearchEnd) -> RunFacts<'static> {
+    fn facts(error: f64, patches: usize, budget_spent: bool) -> RunFacts<'static> {
         RunFacts {
             shape_error_percent: error,
             patches,
             reach: None,
             at_limits: &[],
-            termination,
+            budget_spent,
             layouts: &[],
         }
     }
 
     #[test]
     fn a_low_error_needs_no_explanation_and_a_high_one_always_gets_one() {
-        let stalled = SearchEnd::STALLED;
+        let stalled = false;
         assert!(shortfalls(&facts(0.4, 5, stalled)).is_empty());
         assert_eq!(
             shortfalls(&facts(3.0, 5, stalled)),
@@ -136,7 +135,7 @@ mod tests {
             shortfalls(&facts(f64::INFINITY, 5, stalled)),
             vec![Shortfall::Settled]
         );
-        let spent = SearchEnd::Optimizer(Termination::MaxEvaluations);
+        let spent = true;
         assert_eq!(
             shortfalls(&facts(22.0, 0, spent)),
             vec![Shortfall::NoPatches]
@@ -168,7 +167,7 @@ mod tests {
         let run = RunFacts {
             at_limits: &limits,
             layouts: &layouts,
-            ..facts(2.0, 3, SearchEnd::STALLED)
+            ..facts(2.0, 3, false)
         };
         assert_eq!(
             shortfalls(&run),
