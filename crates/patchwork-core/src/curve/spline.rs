@@ -1,8 +1,6 @@
 //! A smooth curve through given points: the cubic spline with not-a-knot
 //! ends, parametrised by chord length.
 
-use nalgebra::{DMatrix, DVector};
-
 use super::{Curve, CurveError, Point};
 
 impl Curve {
@@ -81,42 +79,65 @@ pub fn seeded_stroke(seed: u64, samples: usize) -> Result<Curve, CurveError> {
 
 /// The spline's second derivatives at the points (one vector per point),
 /// from the interior continuity rows and the not-a-knot ends; equal at all
-/// three points of a three-point curve (its parabola).
+/// three points of a three-point curve (its parabola). The not-a-knot
+/// conditions give M₀ and Mₙ₋₁ from their two neighbours; put into the
+/// first and last interior rows, they leave a tridiagonal system in
+/// M₁ … Mₙ₋₂, solved in O(n) (a curve may have thousands of sparse points).
 fn second_derivatives(points: &[Point], u: &[f64]) -> Vec<Point> {
     let n = points.len();
     let h: Vec<f64> = u.windows(2).map(|w| w[1] - w[0]).collect();
-    let mut a = DMatrix::<f64>::zeros(n, n);
-    let mut rhs = vec![Point::zeros(); n];
-    for i in 1..n - 1 {
-        a[(i, i - 1)] = h[i - 1];
-        a[(i, i)] = 2.0 * (h[i - 1] + h[i]);
-        a[(i, i + 1)] = h[i];
-        rhs[i] =
-            6.0 * ((points[i + 1] - points[i]) / h[i] - (points[i] - points[i - 1]) / h[i - 1]);
-    }
+    // Interior row i (1 ≤ i ≤ n − 2), stored at i − 1:
+    // lower M[i−1] + diag M[i] + upper M[i+1] = rhs.
+    let m = n - 2;
+    let mut lower: Vec<f64> = (1..n - 1).map(|i| h[i - 1]).collect();
+    let mut diag: Vec<f64> = (1..n - 1).map(|i| 2.0 * (h[i - 1] + h[i])).collect();
+    let mut upper: Vec<f64> = (1..n - 1).map(|i| h[i]).collect();
+    let mut rhs: Vec<Point> = (1..n - 1)
+        .map(|i| {
+            6.0 * ((points[i + 1] - points[i]) / h[i] - (points[i] - points[i - 1]) / h[i - 1])
+        })
+        .collect();
     if n == 3 {
         // M₀ = M₁ = M₂: the parabola.
-        a[(0, 0)] = 1.0;
-        a[(0, 1)] = -1.0;
-        a[(2, 1)] = -1.0;
-        a[(2, 2)] = 1.0;
-    } else {
-        // (M₁ − M₀)/h₀ = (M₂ − M₁)/h₁, and the same at the far end.
-        a[(0, 0)] = h[1];
-        a[(0, 1)] = -(h[0] + h[1]);
-        a[(0, 2)] = h[0];
-        let (p, q) = (h[n - 3], h[n - 2]);
-        a[(n - 1, n - 3)] = q;
-        a[(n - 1, n - 2)] = -(p + q);
-        a[(n - 1, n - 1)] = p;
+        let second = rhs[0] / (lower[0] + diag[0] + upper[0]);
+        return vec![second; 3];
     }
-    let lu = a.lu();
-    let column = |d: usize| {
-        let b = DVector::from_iterator(n, rhs.iter().map(|r| r[d]));
-        lu.solve(&b).unwrap_or_else(|| DVector::zeros(n))
-    };
-    let (x, y, z) = (column(0), column(1), column(2));
-    (0..n).map(|i| Point::new(x[i], y[i], z[i])).collect()
+    // (M₁ − M₀)/h₀ = (M₂ − M₁)/h₁: M₀ = ((h₀ + h₁) M₁ − h₀ M₂)/h₁.
+    let (h0, h1) = (h[0], h[1]);
+    diag[0] += lower[0] * (h0 + h1) / h1;
+    upper[0] -= lower[0] * h0 / h1;
+    // At the far end, with p, q the last two chords:
+    // Mₙ₋₁ = ((p + q) Mₙ₋₂ − q Mₙ₋₃)/p.
+    let (p, q) = (h[n - 3], h[n - 2]);
+    diag[m - 1] += upper[m - 1] * (p + q) / p;
+    lower[m - 1] -= upper[m - 1] * q / p;
+    thomas(&lower, &mut diag, &upper, &mut rhs);
+    let first = (rhs[0] * (h0 + h1) - rhs[1] * h0) / h1;
+    let last = (rhs[m - 1] * (p + q) - rhs[m - 2] * q) / p;
+    let mut second = Vec::with_capacity(n);
+    second.push(first);
+    second.extend(rhs);
+    second.push(last);
+    second
+}
+
+/// Solves the tridiagonal system in place (Thomas algorithm): `rhs`
+/// becomes the solution. The spline's interior rows are diagonally
+/// dominant (2 (hᵢ₋₁ + hᵢ) against hᵢ₋₁ + hᵢ), and the end substitutions
+/// keep the first and last so, so no pivoting is needed.
+fn thomas(lower: &[f64], diag: &mut [f64], upper: &[f64], rhs: &mut [Point]) {
+    let n = diag.len();
+    for i in 1..n {
+        let w = lower[i] / diag[i - 1];
+        diag[i] -= w * upper[i - 1];
+        let above = rhs[i - 1];
+        rhs[i] -= above * w;
+    }
+    rhs[n - 1] /= diag[n - 1];
+    for i in (0..n - 1).rev() {
+        let below = rhs[i + 1];
+        rhs[i] = (rhs[i] - below * upper[i]) / diag[i];
+    }
 }
 
 #[cfg(test)]
