@@ -1,8 +1,9 @@
 //! Metrics of a simulated design against the target: the shape error
 //! (aligned RMS distance), the objective, and DTW of κ(s) and τ(s).
 
+use super::input::InputReport;
 use super::objective::{ObjectiveOptions, SHAPE_SAMPLES, TargetProfiles};
-use super::outcome::{Metrics, Profiles};
+use super::outcome::{AsGiven, Metrics, Profiles};
 use super::tuning::Tuning;
 use crate::curve::{Curve, dtw, shape_error};
 use crate::design::Design;
@@ -34,16 +35,14 @@ pub(super) fn verified(
     sim: &Simulation,
     options: &ObjectiveOptions,
 ) -> (Metrics, Profiles) {
-    let shape = shape_error(&sim.centreline, &target.curve, SHAPE_SAMPLES).ok();
+    let (shape_error_mm, shape_error_percent) = shape_figures(&sim.centreline, &target.curve);
     let (curvature, torsion) = target.profiles_of(&sim.centreline, options);
     let metrics = Metrics {
         objective: target.mismatch(&sim.centreline, &curvature, &torsion, options),
         dtw_curvature: dtw(&curvature, &target.curvature, None).unwrap_or(f64::INFINITY),
         dtw_torsion: dtw(&torsion, &target.torsion, None).unwrap_or(f64::INFINITY),
-        shape_error_mm: shape.as_ref().map_or(f64::INFINITY, |e| e.rms_mm),
-        shape_error_percent: shape
-            .as_ref()
-            .map_or(f64::INFINITY, |e| e.percent_of_length),
+        shape_error_mm,
+        shape_error_percent,
     };
     let profiles = Profiles {
         target_curvature_per_mm: target.curvature.clone(),
@@ -52,4 +51,31 @@ pub(super) fn verified(
         torsion_per_mm: torsion,
     };
     (metrics, profiles)
+}
+
+/// The verified centreline against the curve as the user gave it: the
+/// metrics' own figures when the design aimed at that very curve.
+pub(super) fn as_given(
+    centreline: &Curve,
+    given: &Curve,
+    input: &InputReport,
+    metrics: &Metrics,
+) -> AsGiven {
+    let (shape_error_mm, shape_error_percent) = match input.changed_target() {
+        true => shape_figures(centreline, given),
+        false => (metrics.shape_error_mm, metrics.shape_error_percent),
+    };
+    AsGiven {
+        length_mm: given.length(),
+        shape_error_mm,
+        shape_error_percent,
+    }
+}
+
+/// The shape error of `centreline` against `curve` (mm and % of its
+/// length); infinite when it cannot be measured.
+fn shape_figures(centreline: &Curve, curve: &Curve) -> (f64, f64) {
+    shape_error(centreline, curve, SHAPE_SAMPLES).map_or((f64::INFINITY, f64::INFINITY), |e| {
+        (e.rms_mm, e.percent_of_length)
+    })
 }

@@ -5,19 +5,18 @@
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
-use super::assess::verified;
+use super::assess::{as_given, verified};
 use super::caches::Caches;
 use super::checkpoint::DesignCheckpoint;
 use super::errors::DesignRunError;
 use super::input::prepare;
 use super::limits::at_limits;
-use super::objective::SHAPE_SAMPLES;
-use super::outcome::{AsGiven, DesignOutcome, DesignProgress, SearchEnd};
+use super::outcome::{DesignOutcome, DesignProgress, SearchEnd};
 use super::plan::Plan;
 use super::run::{Context, Observer, Run, Setup};
 use super::shortfall::{RunFacts, shortfalls};
 use crate::cmaes::Termination;
-use crate::curve::{Curve, shape_error};
+use crate::curve::Curve;
 
 /// Runs the plan from the start, with caches of its own; `observer` hears
 /// every stage and generation.
@@ -71,7 +70,7 @@ fn outcome(
         &simulation,
         &run.setup.tuning.objective,
     );
-    let as_given = as_given(&simulation.centreline, given);
+    let as_given = as_given(&simulation.centreline, given, &run.setup.input, &metrics);
     let at_limits = at_limits(&run.design.patches, &run.setup.settings.bounds);
     let shortfalls = shortfalls(&RunFacts {
         shape_error_percent: metrics.shape_error_percent,
@@ -110,14 +109,4 @@ fn outcome(
         shortfalls,
         elapsed: Duration::from_secs_f64(ctx.elapsed_s()),
     })
-}
-
-/// The verified centreline against the curve as given.
-fn as_given(centreline: &Curve, given: &Curve) -> AsGiven {
-    let shape = shape_error(centreline, given, SHAPE_SAMPLES).ok();
-    AsGiven {
-        length_mm: given.length(),
-        shape_error_mm: shape.as_ref().map_or(f64::INFINITY, |e| e.rms_mm),
-        shape_error_percent: shape.map_or(f64::INFINITY, |e| e.percent_of_length),
-    }
 }
