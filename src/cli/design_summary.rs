@@ -2,7 +2,6 @@
 //! to the target and where it is out of reach, the stages, limits hit and
 //! the patches.
 
-use patchwork_core::inverse::input::SPARSE_SPACING_MM;
 use patchwork_core::inverse::layout::LayoutTrial;
 use patchwork_core::inverse::reach::ReachReport;
 use patchwork_core::inverse::shortfall::HIGH_ERROR_PERCENT;
@@ -93,11 +92,7 @@ fn input_line(input: &InputReport) -> String {
             input.noise_mm, input.smoothing_mm
         ),
         (true, false) => format!("smoothed with σ {:.1} mm (--smooth-mm)", input.smoothing_mm),
-        (false, true)
-            if input
-                .interpolated
-                .is_some_and(|i| i.median_spacing_mm > SPARSE_SPACING_MM) =>
-        {
+        (false, true) if input.too_sparse_for_noise() => {
             "as given (points too far apart to find noise)".to_string()
         }
         (false, true) => "as given (no noise found)".to_string(),
@@ -123,7 +118,7 @@ fn input_line(input: &InputReport) -> String {
 /// (empty otherwise: the figures above are then against the curve as given).
 fn as_given_line(r: &DesignReport) -> String {
     match &r.as_given {
-        Some(g) if r.input.smoothing_mm > 0.0 || r.input.interpolated.is_some() => format!(
+        Some(g) if r.input.changed_target() => format!(
             "as given:     shape error {:.2} mm ({:.2} % of length) against the points as given \
              ({:.1} mm long; the target aimed at {:.1} mm)\n",
             g.shape_error_mm, g.shape_error_percent, g.length_mm, r.target_length_mm

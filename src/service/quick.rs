@@ -164,8 +164,7 @@ pub async fn curve_route(
         Ok(Json(CurvePreview {
             report: CurveReport::new(&prepared),
             points_mm: xyz(&prepared),
-            given_mm: (input.smoothing_mm > 0.0 || input.interpolated.is_some())
-                .then(|| xyz(&curve)),
+            given_mm: input.changed_target().then(|| xyz(&curve)),
             input,
         }))
     })

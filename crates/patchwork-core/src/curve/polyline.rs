@@ -137,6 +137,30 @@ impl Curve {
         Curve::from_points(points)
     }
 
+    /// Mean squared distance of the points from their best-fit line and
+    /// from their best-fit plane (mm²): the scatter matrix Σ (p − p̄)(p − p̄)ᵀ
+    /// over n has the squared distances along its principal axes as
+    /// eigenvalues, the plane's normal along the smallest, the line along
+    /// the largest.
+    pub fn off_line_and_plane(&self) -> (f64, f64) {
+        let n = self.points.len() as f64;
+        let mean = self.points.iter().sum::<Point>() / n;
+        let scatter = self
+            .points
+            .iter()
+            .map(|p| (p - mean) * (p - mean).transpose())
+            .sum::<nalgebra::Matrix3<f64>>();
+        let eigen = scatter.symmetric_eigen().eigenvalues;
+        let off_line = (eigen.sum() - eigen.max()).max(0.0) / n;
+        let off_plane = eigen.min().max(0.0) / n;
+        (off_line, off_plane)
+    }
+
+    /// Distances between consecutive points (mm).
+    pub fn chords(&self) -> Vec<f64> {
+        self.arc_length.windows(2).map(|w| w[1] - w[0]).collect()
+    }
+
     /// The same curve moved rigidly: `p ↦ rotation · p + translation`.
     pub fn transformed(&self, rotation: &nalgebra::Rotation3<f64>, translation: &Point) -> Curve {
         let points = self

@@ -1,5 +1,6 @@
 //! Gaussian smoothing along arc length, for noisy hand-drawn or digitised curves.
 
+use super::polyline::cumulative_length;
 use super::{Curve, CurveError, Point};
 use crate::cmaes::SeededRng;
 
@@ -109,7 +110,7 @@ impl Curve {
         let raw_length = self.length().max(f64::MIN_POSITIVE);
         let mut scale = 1.0;
         for _ in 0..MAX_REPARAMETRISATIONS {
-            let next = polyline_length(&smoothed) / raw_length;
+            let next = cumulative_length(&smoothed)[smoothed.len() - 1] / raw_length;
             let settled = (next / scale - 1.0).abs() < REPARAMETRISATION_TOLERANCE;
             scale = next;
             s = self.arc_length().iter().map(|x| x * scale).collect();
@@ -120,10 +121,6 @@ impl Curve {
         }
         Ok((smoothed, s))
     }
-}
-
-fn polyline_length(points: &[Point]) -> f64 {
-    points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
 }
 
 /// Rescalings of the arc length at most (the scale settles in a few).

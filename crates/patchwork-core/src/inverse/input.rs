@@ -28,7 +28,7 @@ const SAMPLES_PER_SIGMA: f64 = 16.0;
 /// Points further apart than this (median, mm) are read through a spline:
 /// KSA's merge distance, beyond which marked samples cannot form a run, so
 /// a bend sampled that sparsely gets no patch at all.
-pub const SPARSE_SPACING_MM: f64 = 20.0;
+const SPARSE_SPACING_MM: f64 = 20.0;
 
 /// Points whose chords stray further than this from the smooth curve
 /// through them (mm; a chord c turning by θ at its ends strays by about
@@ -84,6 +84,21 @@ pub struct InputReport {
     pub interpolated: Option<Interpolated>,
 }
 
+impl InputReport {
+    /// Whether the target the design aimed at differs from the points as
+    /// given: smoothed, or read through a spline.
+    pub fn changed_target(&self) -> bool {
+        self.smoothing_mm > 0.0 || self.interpolated.is_some()
+    }
+
+    /// Whether the points were too far apart to look for noise on them
+    /// (`noise_mm` is then 0 without meaning none).
+    pub fn too_sparse_for_noise(&self) -> bool {
+        self.interpolated
+            .is_some_and(|i| i.median_spacing_mm > SPARSE_SPACING_MM)
+    }
+}
+
 /// Sparse points read through a cubic spline ([`Curve::through`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Interpolated {
@@ -108,7 +123,7 @@ pub fn prepare(
     // Points this far apart have no noise to find: the local fits that
     // estimate it would read the bends as noise. (Only the spacing: noise
     // turns every chord, and the sagitta test would read it as sparseness.)
-    let noise = match median_spacing(target) > SPARSE_SPACING_MM {
+    let noise = match median_spacing(&target.chords()) > SPARSE_SPACING_MM {
         true => 0.0,
         false => target.noise_estimate(),
     };
@@ -155,14 +170,10 @@ pub fn prepare(
 }
 
 /// The median distance between consecutive points (mm).
-fn median_spacing(curve: &Curve) -> f64 {
-    let mut chords: Vec<f64> = curve
-        .points()
-        .windows(2)
-        .map(|w| (w[1] - w[0]).norm())
-        .collect();
-    chords.sort_by(f64::total_cmp);
-    chords[chords.len() / 2]
+fn median_spacing(chords: &[f64]) -> f64 {
+    let mut sorted = chords.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted[sorted.len() / 2]
 }
 
 /// The median spacing and the 90th percentile of the sagitta (c θ / 8, with
@@ -170,9 +181,9 @@ fn median_spacing(curve: &Curve) -> f64 {
 /// sparse for their bends; none when they are dense enough. The percentile,
 /// not the largest: one kink does not make a curve sparse.
 fn sparseness(curve: &Curve) -> Option<(f64, f64)> {
-    let points = curve.points();
-    let chords: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
-    let mut sagittas: Vec<f64> = points
+    let chords = curve.chords();
+    let mut sagittas: Vec<f64> = curve
+        .points()
         .windows(3)
         .zip(chords.windows(2))
         .map(|(p, c)| {
@@ -182,7 +193,7 @@ fn sparseness(curve: &Curve) -> Option<(f64, f64)> {
         .collect();
     sagittas.sort_by(f64::total_cmp);
     let sagitta = sagittas[sagittas.len() * 9 / 10];
-    let median = median_spacing(curve);
+    let median = median_spacing(&chords);
     (median > SPARSE_SPACING_MM || sagitta > SPARSE_SAGITTA_MM).then_some((median, sagitta))
 }
 
@@ -256,17 +267,7 @@ fn quadratic_at(indices: &[usize], s: &[f64], points: &[Point], at: f64) -> Opti
 /// their best-fit plane (normal to the smallest principal axis) is within
 /// `PLANAR_TOLERANCE` of its length, or within the noise found on it.
 pub fn is_planar(curve: &Curve, noise_mm: f64) -> bool {
-    let points = curve.points();
-    let mean = points.iter().sum::<Point>() / points.len() as f64;
-    let scatter = points
-        .iter()
-        .map(|p| (p - mean) * (p - mean).transpose())
-        .sum::<nalgebra::Matrix3<f64>>();
-    // The smallest eigenvalue of the scatter is the sum of squared
-    // distances from the best-fit plane.
-    let eigen = scatter.symmetric_eigen();
-    let smallest = eigen.eigenvalues.min().max(0.0);
-    let rms = (smallest / points.len() as f64).sqrt();
+    let rms = curve.off_line_and_plane().1.sqrt();
     rms <= (PLANAR_TOLERANCE * curve.length()).max(noise_mm)
 }
 

@@ -25,9 +25,9 @@ use std::f64::consts::TAU;
 
 use serde::{Deserialize, Serialize};
 
-use crate::curve::{AnalysisOptions, Curve, Point, analyse};
+use crate::curve::{AnalysisOptions, Curve, analyse};
 use crate::design::{Design, Patch};
-use crate::ksa::{KsaParams, Stretch, ksa};
+use crate::ksa::{KsaParams, Stretch, ksa_on};
 
 /// The finer layout's curvature tolerance, as a fraction of the run's.
 pub const FINER: f64 = 0.4;
@@ -64,14 +64,21 @@ pub fn with_gentle_bends(
     kappa_tol: f64,
     params: &KsaParams,
 ) -> Option<Design> {
+    // One analysis for the tolerance and the marking, with KSA's scheme:
+    // the tolerance is judged on the curvature KSA marks by.
+    let options = AnalysisOptions {
+        scheme: params.scheme,
+        ..AnalysisOptions::default()
+    };
+    let analysis = analyse(target, &options);
     let finer = KsaParams {
-        kappa_tol: finer_tolerance(target, kappa_tol),
+        kappa_tol: finer_tolerance(target, &analysis.curvature, kappa_tol),
         l0_mm: design.balloon.length_mm,
         r0_mm: design.balloon.radius_mm,
         stretch: Stretch::Fixed(target.length() / design.balloon.length_mm),
         ..params.clone()
     };
-    let candidates = ksa(target, &finer).ok()?.patches;
+    let candidates = ksa_on(&analysis, &finer).patches;
     let circumference = TAU * design.balloon.radius_mm;
     let offset = frame_offset(&design.patches, &candidates, circumference);
     let added: Vec<Patch> = candidates
@@ -95,13 +102,14 @@ pub fn with_gentle_bends(
 }
 
 /// KSA's tolerance for the finer layout: `FINER` of the run's, and on a
-/// curved target at most `GENTLE` of its 90th-percentile curvature.
-pub fn finer_tolerance(target: &Curve, kappa_tol: f64) -> f64 {
+/// curved target at most `GENTLE` of the 90th percentile of its
+/// `curvature` (per sample).
+pub fn finer_tolerance(target: &Curve, curvature: &[f64], kappa_tol: f64) -> f64 {
     let finer = FINER * kappa_tol;
     if !is_curved(target) {
         return finer;
     }
-    let mut kappa = analyse(target, &AnalysisOptions::default()).curvature;
+    let mut kappa = curvature.to_vec();
     kappa.sort_by(f64::total_cmp);
     let bend = kappa[kappa.len() * 9 / 10];
     match bend > 0.0 {
@@ -111,19 +119,9 @@ pub fn finer_tolerance(target: &Curve, kappa_tol: f64) -> f64 {
 }
 
 /// Whether the curve strays from its best-fit line by more than `CURVED`
-/// of its length (RMS; the scatter's two smaller eigenvalues are the
-/// squared distances from that line).
+/// of its length (RMS).
 fn is_curved(curve: &Curve) -> bool {
-    let points = curve.points();
-    let n = points.len() as f64;
-    let mean = points.iter().sum::<Point>() / n;
-    let scatter = points
-        .iter()
-        .map(|p| (p - mean) * (p - mean).transpose())
-        .sum::<nalgebra::Matrix3<f64>>();
-    let eigen = scatter.symmetric_eigen().eigenvalues;
-    let off_line = (eigen.sum() - eigen.max()).max(0.0);
-    (off_line / n).sqrt() > CURVED * curve.length()
+    curve.off_line_and_plane().0.sqrt() > CURVED * curve.length()
 }
 
 /// Whether two patches' axial spans come within `CLEARANCE_MM`.

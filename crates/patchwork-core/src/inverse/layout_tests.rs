@@ -17,20 +17,38 @@ fn patch(x: f64, y: f64, h: f64) -> Patch {
     }
 }
 
+fn arc(radius_mm: f64, angle_deg: f64) -> Curve {
+    Preset::Arc(ArcParams {
+        radius_mm,
+        angle_deg,
+    })
+    .generate(400)
+    .unwrap()
+}
+
+/// κ per sample as KSA marks by.
+fn curvature(curve: &Curve) -> Vec<f64> {
+    let options = crate::curve::AnalysisOptions {
+        scheme: KsaParams::default().scheme,
+        ..Default::default()
+    };
+    crate::curve::analyse(curve, &options).curvature
+}
+
+/// KSA with trains of patches at most 30 mm long.
+fn trains() -> KsaParams {
+    KsaParams {
+        max_patch_mm: Some(30.0),
+        ..KsaParams::default()
+    }
+}
+
 #[test]
 fn a_gentle_arc_gets_patches_where_the_design_has_none() {
     // r = 150 mm: κ = 0.0067 mm⁻¹, under KSA's 0.01 but over 0.004.
-    let arc = Preset::Arc(ArcParams {
-        radius_mm: 150.0,
-        angle_deg: 180.0,
-    })
-    .generate(400)
-    .unwrap();
+    let arc = arc(150.0, 180.0);
     let empty = balloon(300.0, vec![]);
-    let params = KsaParams {
-        max_patch_mm: Some(30.0),
-        ..KsaParams::default()
-    };
+    let params = trains();
     let finer = with_gentle_bends(&empty, &arc, 0.01, &params).unwrap();
     assert!(finer.patches.len() >= 10, "{:?}", finer.patches);
     assert!(finer.patches.iter().all(|p| p.h_mm <= 30.0 + 1e-9));
@@ -66,23 +84,14 @@ fn added_patches_are_turned_into_the_designs_frame() {
 /// not curved and keeps 0.4 of KSA's tolerance.
 #[test]
 fn a_very_gentle_arc_gets_patches_and_a_noisy_line_does_not_lower_the_tolerance() {
-    let arc = Preset::Arc(ArcParams {
-        radius_mm: 300.0,
-        angle_deg: 100.0,
-    })
-    .generate(400)
-    .unwrap();
-    let tolerance = finer_tolerance(&arc, 0.01);
+    let arc = arc(300.0, 100.0);
+    let tolerance = finer_tolerance(&arc, &curvature(&arc), 0.01);
     assert!(
         (tolerance - GENTLE / 300.0).abs() < 0.05 * GENTLE / 300.0,
         "{tolerance}"
     );
     let empty = balloon(150.0, vec![]);
-    let params = KsaParams {
-        max_patch_mm: Some(30.0),
-        ..KsaParams::default()
-    };
-    let finer = with_gentle_bends(&empty, &arc, 0.01, &params).unwrap();
+    let finer = with_gentle_bends(&empty, &arc, 0.01, &trains()).unwrap();
     assert!(finer.patches.len() >= 4, "{:?}", finer.patches);
     let line = Preset::from_name("line", serde_json::json!({"length_mm": 300}))
         .unwrap()
@@ -90,5 +99,8 @@ fn a_very_gentle_arc_gets_patches_and_a_noisy_line_does_not_lower_the_tolerance(
         .unwrap()
         .with_noise(0.3 / 300.0, 3)
         .unwrap();
-    assert_eq!(finer_tolerance(&line, 0.01), FINER * 0.01);
+    assert_eq!(
+        finer_tolerance(&line, &curvature(&line), 0.01),
+        FINER * 0.01
+    );
 }
