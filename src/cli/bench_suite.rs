@@ -131,9 +131,18 @@ pub fn suite(suite: Suite) -> Result<(Targets, Vec<Setting>)> {
 }
 
 fn preset(name: &str, params: serde_json::Value) -> Result<Curve> {
+    sampled_preset(name, params, None)
+}
+
+/// A preset curve with `points` samples (None: its default).
+pub(super) fn sampled_preset(
+    name: &str,
+    params: serde_json::Value,
+    points: Option<usize>,
+) -> Result<Curve> {
     Ok(Preset::from_name(name, params)
         .map_err(anyhow::Error::msg)?
-        .curve(None)?)
+        .curve(points)?)
 }
 
 fn reference_curve(name: &str) -> Result<Curve> {

@@ -6,10 +6,10 @@
 use std::f64::consts::{PI, TAU};
 
 use anyhow::Result;
-use patchwork_core::curve::{Curve, Point, Preset, seeded_stroke};
+use patchwork_core::curve::{Curve, Point, seeded_stroke};
 use serde_json::json;
 
-use super::bench_suite::{Setting, Target, Targets};
+use super::bench_suite::{Setting, Target, Targets, sampled_preset as preset};
 use patchwork_core::inverse::Fidelity;
 
 /// The curves of the users' suite and its one setting, draft as users get it.
@@ -24,12 +24,6 @@ pub fn users() -> Result<(Targets, Vec<Setting>)> {
 
 fn named(name: &str, curve: Curve) -> Target {
     (name.to_string(), curve).into()
-}
-
-fn preset(name: &str, params: serde_json::Value, points: Option<usize>) -> Result<Curve> {
-    Ok(Preset::from_name(name, params)
-        .map_err(anyhow::Error::msg)?
-        .curve(points)?)
 }
 
 /// Arcs of radius 200–600 mm, bending less than KSA's tolerance marks.

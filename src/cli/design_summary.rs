@@ -132,7 +132,7 @@ fn shortfall_line(r: &DesignReport) -> String {
     if r.shortfalls.is_empty() {
         return String::new();
     }
-    let causes: Vec<String> = r.shortfalls.iter().map(|c| c.message()).collect();
+    let causes: Vec<&str> = r.shortfalls.iter().map(|c| c.message.as_str()).collect();
     format!(
         "short:        shape error above {HIGH_ERROR_PERCENT} %: {}\n",
         causes.join("; ")

@@ -19,19 +19,12 @@ function asGiven(result) {
     `${num(g.shape_error_percent, 3)} % of its length (${num(g.shape_error_mm, 3)} mm RMS; before smoothing, ${num(g.length_mm, 4)} mm long)`]];
 }
 
-// Where the shape error is above 1 %, the causes the run found.
-const CAUSES = {
-  out_of_reach: (c) => `the target bends or twists beyond one patch over ${c.stretches} stretch(es)`,
-  at_limits: (c) => `${c.patches} patch(es) on a fabrication limit`,
-  budget_spent: () => "the search's budget ran out",
-  layouts_exhausted: (c) => `the ${c.tried} layouts tried reached no lower`,
-  no_patches: () => "no layout marked a bend for a patch",
-  settled: () => "the search settled in a local optimum",
-};
+// Where the shape error is above 1 %, the causes the run found, in the
+// server's words.
 function shortfalls(result) {
   const causes = result.shortfalls ?? [];
   if (!causes.length) return [];
-  return [["why above 1 %", causes.map((c) => (CAUSES[c.cause] ?? (() => c.cause))(c)).join("; ")]];
+  return [["why above 1 %", causes.map((c) => c.message).join("; ")]];
 }
 
 export async function showResult(page, jobId, result, preview) {

@@ -8,7 +8,7 @@ use super::layout::LayoutTrial;
 use super::limits::AtLimit;
 use super::outcome::{AsGiven, DesignOutcome, Metrics, Profiles, RefineSummary, SearchEnd};
 use super::reach::ReachReport;
-use super::shortfall::Shortfall;
+use super::shortfall::Explained;
 use crate::design::Design;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -68,7 +68,7 @@ pub struct DesignReport {
     /// Why the shape error is above 1 % of the length, when it is; absent
     /// otherwise.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub shortfalls: Vec<Shortfall>,
+    pub shortfalls: Vec<Explained>,
 }
 
 impl DesignReport {
@@ -102,7 +102,7 @@ impl DesignReport {
             as_given: Some(outcome.as_given),
             reach: outcome.reach.clone(),
             layouts: outcome.layouts.clone(),
-            shortfalls: outcome.shortfalls.clone(),
+            shortfalls: outcome.shortfalls.iter().map(Explained::from).collect(),
         }
     }
 }

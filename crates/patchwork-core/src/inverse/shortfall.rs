@@ -43,10 +43,10 @@ impl Shortfall {
                 "the target bends or twists beyond what one patch makes over {stretches} stretch(es) (see reach)"
             ),
             Shortfall::AtLimits { patches } => format!(
-                "{patches} patch(es) on a fabrication limit (relax --bounds if the fabrication allows)"
+                "{patches} patch(es) on a fabrication limit (relax the bounds if the fabrication allows)"
             ),
             Shortfall::BudgetSpent => {
-                "the search's budget ran out (a larger --budget or --fidelity standard may do better)"
+                "the search's budget ran out (a larger budget or the standard fidelity may do better)"
                     .into()
             }
             Shortfall::LayoutsExhausted { tried } => {
@@ -54,8 +54,26 @@ impl Shortfall {
             }
             Shortfall::NoPatches => "no layout marked a bend for a patch".into(),
             Shortfall::Settled => {
-                "the search settled in a local optimum (another --seed may do better)".into()
+                "the search settled in a local optimum (another seed may do better)".into()
             }
+        }
+    }
+}
+
+/// A cause with its message, as design.json and the API carry it: every
+/// reader shows the same words.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Explained {
+    #[serde(flatten)]
+    pub cause: Shortfall,
+    pub message: String,
+}
+
+impl From<&Shortfall> for Explained {
+    fn from(cause: &Shortfall) -> Explained {
+        Explained {
+            cause: cause.clone(),
+            message: cause.message(),
         }
     }
 }
