@@ -39,9 +39,8 @@ pub struct BenchArgs {
     /// standard), round-trips (simulated random designs, the layout
     /// unknown), users (curves as users send them: gentle arcs, sparse CAD
     /// exports, noisy strokes, new kinds; draft), or report (BENCHMARKS.md:
-    /// forward solves, curves under
-    /// draft and standard, round trips under draft; about 80 minutes on 2
-    /// cores).
+    /// forward solves, curves under draft and standard, round trips and
+    /// users' curves under draft; about 100 minutes on 2 cores).
     #[arg(long, value_enum, default_value = "reference")]
     suite: Suite,
     /// Folder for bench.md and bench.svg (the report: its tables and plot).

@@ -1,6 +1,7 @@
 //! `patchwork bench --suite report`: the benchmark report (BENCHMARKS.md).
 //! Runs the forward solve per mesh, the curve suite under draft and
-//! standard and the round trips under draft, in one invocation, and writes
+//! standard, the round trips and the users' suite under draft, in one
+//! invocation, and writes
 //! the report with the machine, build, date and command in its header, a
 //! headline table, a section per measurement and the limits the run shows.
 //! The service under load comes from its own bench's markdown (it needs an
@@ -26,15 +27,25 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     let forward = bench_forward::measure()?;
     let curves = measured(Suite::Curves, &["draft", "standard"], args)?;
     let trips = measured(Suite::RoundTrips, &["draft"], args)?;
+    let users = measured(Suite::Users, &["draft"], args)?;
     std::fs::write(args.out.join("bench.svg"), plot(&curves))?;
     std::fs::write(args.out.join("curves.md"), table(&curves, command))?;
     std::fs::write(args.out.join("round-trips.md"), table(&trips, command))?;
+    std::fs::write(args.out.join("users.md"), table(&users, command))?;
     let service = std::fs::read_to_string(args.out.join(SERVICE_SECTION)).ok();
     let report = [
         head,
-        headline(&curves, &trips, &forward, service.as_deref(), &args.out),
+        headline(
+            &curves,
+            &trips,
+            &users,
+            &forward,
+            service.as_deref(),
+            &args.out,
+        ),
         curve_section(&curves, &args.out),
         trip_section(&trips),
+        users_section(&users, &args.out),
         forward_section(&forward),
         service_section(service.as_deref(), &args.out),
         known_limits(&curves),
@@ -77,6 +88,7 @@ fn summary(rows: &[Row], setting: &str) -> Summary {
 fn headline(
     curves: &[Row],
     trips: &[Row],
+    users_rows: &[Row],
     forward: &[ForwardRow],
     service: Option<&str>,
     out: &Path,
@@ -97,6 +109,11 @@ fn headline(
     s.push_str(&format!(
         "| {} random designs of 4–12 patches, layout unknown, `draft` | median {:.2} %, worst {worst:.2} %, every run ≤ {:.0} s |\n",
         t.curves, t.median, t.longest_s
+    ));
+    let goals = UsersGoals::of(users_rows);
+    s.push_str(&format!(
+        "| {} curves as users send them, `draft` | median {:.2} %, worst within reach {:.2} % against the curve meant; {} of 4 goals met |\n",
+        goals.curves, goals.median, goals.worst, goals.met()
     ));
     if let Some(default) = forward.first() {
         s.push_str(&format!(
@@ -182,6 +199,131 @@ fn trip_section(rows: &[Row]) -> String {
             r.figures.reference_error_percent,
             r.figures.wall_s,
             r.reach
+        ));
+    }
+    s
+}
+
+/// A row's shape error against the curve the user meant: the clean curve a
+/// drawn target was drawn from, or the curve as given.
+fn meant_error(row: &Row) -> f64 {
+    match row.figures.clean_error_percent.is_finite() {
+        true => row.figures.clean_error_percent,
+        false => row.figures.reference_error_percent,
+    }
+}
+
+/// The users' suite against issue 42's goals.
+struct UsersGoals {
+    curves: usize,
+    /// Median and worst within reach, against the curve meant (%).
+    median: f64,
+    worst: f64,
+    /// Curves designed without any patch.
+    without_patches: Vec<String>,
+    /// Most a noisy copy's error (against its clean curve) exceeds its
+    /// clean curve's design (percentage points).
+    noisy_gap: f64,
+}
+
+impl UsersGoals {
+    fn of(rows: &[Row]) -> UsersGoals {
+        let within: Vec<f64> = rows
+            .iter()
+            .filter(|r| r.reach == "yes")
+            .map(meant_error)
+            .collect();
+        let noisy_gap = rows
+            .iter()
+            .filter(|r| r.figures.clean_error_percent.is_finite())
+            .filter_map(|noisy| {
+                let stem = noisy.curve.split(" (").next()?;
+                let clean = rows.iter().find(|r| r.curve == format!("{stem}, clean"))?;
+                Some(noisy.figures.clean_error_percent - clean.figures.reference_error_percent)
+            })
+            .fold(f64::NAN, f64::max);
+        UsersGoals {
+            curves: rows.len(),
+            median: median(within.clone()),
+            worst: within.iter().copied().fold(f64::NAN, f64::max),
+            without_patches: rows
+                .iter()
+                .filter(|r| r.figures.patches < 1.0)
+                .map(|r| r.curve.clone())
+                .collect(),
+            noisy_gap,
+        }
+    }
+
+    /// (goal, result, met) per goal.
+    fn rows(&self) -> [(String, String, bool); 4] {
+        let none = self.without_patches.is_empty();
+        [
+            (
+                "median within reach ≤ 0.5 %".into(),
+                format!("{:.2} %", self.median),
+                self.median <= 0.5,
+            ),
+            (
+                "worst within reach ≤ 1.5 %".into(),
+                format!("{:.2} %", self.worst),
+                self.worst <= 1.5,
+            ),
+            (
+                "every curve gets patches".into(),
+                match none {
+                    true => "all do".into(),
+                    false => format!("none on {}", self.without_patches.join(", ")),
+                },
+                none,
+            ),
+            (
+                "a noisy stroke within 0.3 points of its clean stroke's design".into(),
+                format!("at most {:+.2} points", self.noisy_gap),
+                self.noisy_gap <= 0.3,
+            ),
+        ]
+    }
+
+    fn met(&self) -> usize {
+        self.rows().iter().filter(|(_, _, met)| *met).count()
+    }
+}
+
+fn users_section(rows: &[Row], out: &Path) -> String {
+    let goals = UsersGoals::of(rows);
+    let mut s = format!(
+        "## Curves as users send them\n\n\
+         Curves as they arrive rather than as presets write them, each designed \
+         under `draft` from the points alone (seed 1): gentle arcs (radius \
+         200–600 mm), sparse CAD exports (15–22 points) of helices, a conical \
+         spiral and a spline, seeded 3D strokes with 0.3, 0.6 and 1 mm of noise \
+         beside the clean strokes they were drawn from, and five kinds the suite \
+         above lacks (a saddle, a planar wave, Viviani's curve, a planar \
+         Archimedean spiral, a question mark: a straight stem into a 240° bend). \
+         Shape error on the reference model against the curve as given, and \
+         for a noisy stroke against its clean stroke (the curve meant). Every \
+         figure: [`{0}/users.md`]({0}/users.md).\n\n\
+         | goal (curves within reach) | result | met |\n|---|---|---|\n",
+        out.display()
+    );
+    for (goal, result, met) in goals.rows() {
+        let met = if met { "yes" } else { "**no**" };
+        s.push_str(&format!("| {goal} | {result} | {met} |\n"));
+    }
+    s.push_str(
+        "\n| curve | shape error % (as given) | against the curve meant % | patches | within reach | wall s |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        s.push_str(&format!(
+            "| {} | {:.2} | {:.2} | {:.0} | {} | {:.1} |\n",
+            r.curve,
+            r.figures.reference_error_percent,
+            meant_error(r),
+            r.figures.patches,
+            r.reach,
+            r.figures.wall_s
         ));
     }
     s

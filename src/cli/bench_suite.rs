@@ -30,7 +30,8 @@ pub enum Suite {
     /// lack, under draft.
     Users,
     /// The benchmark report: the forward solve per mesh, the curve suite
-    /// under draft and standard, the round trips under draft.
+    /// under draft and standard, the round trips and the users' suite under
+    /// draft.
     Report,
 }
 

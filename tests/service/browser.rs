@@ -112,6 +112,19 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
         (ours / server - 1.0).abs() < 0.01,
         "page {ours} % vs server {server} %"
     );
+    // The layouts the run tried are listed whenever there was more than one.
+    let tried = page
+        .execute(
+            "return (window.patchwork.result.layouts ?? []).length",
+            json!([]),
+        )
+        .await;
+    let facts = page.text("#job-facts").await;
+    assert_eq!(
+        facts.contains("layouts tried"),
+        tried.as_u64().unwrap() >= 2,
+        "{facts}"
+    );
     page.screenshot(&screenshots().join("result.png")).await;
     if docs {
         let image = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/images/web-app.png");

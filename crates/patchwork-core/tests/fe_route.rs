@@ -5,7 +5,7 @@
 //!
 //! On incompressible materials, whose pressure plateau is flat. The paper's
 //! compressible balloon has a true limit point instead (the bare tube's
-//! pressure peaks at 15.3 kPa at a hoop stretch of 1.7 and falls to 14.7
+//! pressure peaks at 15.7 kPa at a hoop stretch of 1.7 and falls to 14.7
 //! kPa at 2.5 before rising to 20 kPa at 5.19): past it a long tube under
 //! volume control bulges locally (as party balloons do) rather than
 //! inflating evenly, and a path of even states stops there (measured:

@@ -27,14 +27,26 @@ function shortfalls(result) {
   return [["why above 1 %", causes.map((c) => c.message).join("; ")]];
 }
 
+// The layouts the run tried after the refine (KSA's, patches on gentle
+// bends, patches taken out), each with the shape error it reached.
+function layouts(result) {
+  const tried = result.layouts ?? [];
+  if (tried.length < 2) return [];
+  const text = tried.map((l) =>
+    `${l.layout}: ${l.patches} patches, ${num(l.shape_error_percent, 3)} %${l.chosen ? " (chosen)" : ""}`);
+  return [["layouts tried", text.join("; ")]];
+}
+
 export async function showResult(page, jobId, result, preview) {
   const target = preview?.points_mm;
   const m = result.metrics;
+  page.result = result; // for the browser tests and the console
   const facts = $("#job-facts");
   const rows = [
     ["shape error", `${num(m.shape_error_percent, 3)} % of the length (${num(m.shape_error_mm, 3)} mm RMS)`],
     ...asGiven(result),
     ...shortfalls(result),
+    ...layouts(result),
     ["DTW κ, τ", `${num(m.dtw_curvature, 3)}, ${num(m.dtw_torsion, 3)}`],
     ["target", `${num(result.target_length_mm, 4)} mm`],
     ["inflated", `${num(result.inflated_length_mm, 4)} mm`],

@@ -24,7 +24,7 @@ pub use presets::{Preset, ReferenceCurve};
 pub use profile::interpolate;
 pub use read::{Units, points_from_json, read_curve, read_json, read_text};
 pub use shape_error::{AlignedSamples, ShapeError, bend_and_twist, kabsch, shape_error};
-pub use spline::seeded_stroke;
+pub use spline::{StrokeShape, seeded_stroke, seeded_stroke_shaped};
 
 /// A point or vector in 3D, millimetres.
 pub type Point = nalgebra::Vector3<f64>;

@@ -58,19 +58,55 @@ impl Curve {
     }
 }
 
-/// A smooth random stroke, as a hand might draw in 3D: the cubic spline
-/// through eight points 40 mm apart along x, each moved by seeded Gaussian
-/// offsets (σ 10 mm along x, 40 mm across), `samples` points (500–900 mm
-/// long). For studies, tests and the bench: the same seed gives the same
-/// stroke.
+/// How a seeded stroke is drawn: the cubic spline through `points` control
+/// points `spacing_mm` apart along x, each moved by seeded Gaussian offsets
+/// (σ a quarter of the spacing along x, `spread_mm` across).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StrokeShape {
+    pub points: usize,
+    pub spacing_mm: f64,
+    pub spread_mm: f64,
+}
+
+impl StrokeShape {
+    /// Eight points 40 mm apart, 40 mm across: about 500–700 mm long, with
+    /// bends as tight as 1–8 mm in radius (tighter than a balloon bends).
+    pub const HAND: StrokeShape = StrokeShape {
+        points: 8,
+        spacing_mm: 40.0,
+        spread_mm: 40.0,
+    };
+
+    /// Seven points 100 mm apart, 30 mm across: about 640–810 mm long, its
+    /// tightest bends 13–60 mm in radius (seeds 21, 22, 31–36), mostly
+    /// within a balloon's reach.
+    pub const SWEEPING: StrokeShape = StrokeShape {
+        points: 7,
+        spacing_mm: 100.0,
+        spread_mm: 30.0,
+    };
+}
+
+/// A smooth random stroke, as a hand might draw in 3D
+/// ([`StrokeShape::HAND`]), `samples` points. For studies, tests and the
+/// bench: the same seed gives the same stroke.
 pub fn seeded_stroke(seed: u64, samples: usize) -> Result<Curve, CurveError> {
+    seeded_stroke_shaped(seed, samples, StrokeShape::HAND)
+}
+
+/// A seeded stroke of the given `shape`, `samples` points.
+pub fn seeded_stroke_shaped(
+    seed: u64,
+    samples: usize,
+    shape: StrokeShape,
+) -> Result<Curve, CurveError> {
     let mut rng = crate::cmaes::SeededRng::new(seed);
-    let control: Vec<Point> = (0..8)
+    let control: Vec<Point> = (0..shape.points)
         .map(|i| {
             Point::new(
-                40.0 * i as f64 + 10.0 * rng.normal(),
-                40.0 * rng.normal(),
-                40.0 * rng.normal(),
+                shape.spacing_mm * (i as f64 + 0.25 * rng.normal()),
+                shape.spread_mm * rng.normal(),
+                shape.spread_mm * rng.normal(),
             )
         })
         .collect();

@@ -25,6 +25,8 @@ use std::f64::consts::TAU;
 
 use serde::{Deserialize, Serialize};
 
+use super::limits::at_limits;
+use super::variables::VariableBounds;
 use crate::curve::{AnalysisOptions, Curve, analyse};
 use crate::design::{Design, Patch};
 use crate::ksa::{KsaParams, Stretch, ksa_on};
@@ -145,6 +147,67 @@ fn frame_offset(design: &[Patch], candidates: &[Patch], circumference: f64) -> f
         true => 0.0,
         false => sin.atan2(cos) / TAU * circumference,
     }
+}
+
+/// The design less one of its weakest patches, and which one (its number
+/// as in the tables), or none when no patch is at its weakest.
+///
+/// A patch the refine left at both its smallest height and its narrowest
+/// width bends the tube more than the target wants even so: a gentle bend
+/// laid out as a train of patches (an arc of radius 600 mm) needs fewer of
+/// them, further apart. Of the longest run of consecutive weakest patches
+/// the middle one goes, and the run's others are spaced evenly between its
+/// first and last (each refine moves a patch only within its Y window, so
+/// the spacing has to be set here).
+pub fn thinned(design: &Design, bounds: &VariableBounds) -> Option<(Design, usize)> {
+    let mut order: Vec<usize> = (0..design.patches.len()).collect();
+    order.sort_by(|&a, &b| design.patches[a].y_mm.total_cmp(&design.patches[b].y_mm));
+    let limits = at_limits(&design.patches, bounds);
+    let on = |index: usize, bound: &str| {
+        limits
+            .iter()
+            .any(|l| l.patch == index + 1 && l.bound == bound)
+    };
+    let weakest = |index: usize| on(index, "bounds.h_min_mm") && on(index, "bounds.w_min_mm");
+    let run = longest_run(&order, weakest)?;
+    let removed = run[run.len() / 2];
+    let kept: Vec<usize> = run.iter().copied().filter(|&i| i != removed).collect();
+    let (first, last) = (
+        design.patches[run[0]].y_mm,
+        design.patches[run[run.len() - 1]].y_mm,
+    );
+    let mut patches = design.patches.clone();
+    for (k, &index) in kept.iter().enumerate() {
+        let f = match kept.len() {
+            1 => 0.5,
+            n => k as f64 / (n - 1) as f64,
+        };
+        patches[index].y_mm = first + f * (last - first);
+    }
+    patches.remove(removed);
+    Some((
+        Design {
+            patches,
+            ..design.clone()
+        },
+        removed + 1,
+    ))
+}
+
+/// The longest run of consecutive entries of `order` that are `weakest`.
+fn longest_run(order: &[usize], weakest: impl Fn(usize) -> bool) -> Option<Vec<usize>> {
+    let mut best: Vec<usize> = Vec::new();
+    let mut current = Vec::new();
+    for &index in order {
+        match weakest(index) {
+            true => current.push(index),
+            false => current.clear(),
+        }
+        if current.len() > best.len() {
+            best = current.clone();
+        }
+    }
+    (!best.is_empty()).then_some(best)
 }
 
 #[cfg(test)]

@@ -104,3 +104,51 @@ fn a_very_gentle_arc_gets_patches_and_a_noisy_line_does_not_lower_the_tolerance(
         FINER * 0.01
     );
 }
+
+fn sized(y: f64, h: f64, w: f64) -> Patch {
+    Patch {
+        h_mm: h,
+        w_mm: w,
+        ..patch(0.0, y, h)
+    }
+}
+
+/// Of the longest run of patches at both their smallest height and width,
+/// the middle one goes and the run's others are spaced evenly between its
+/// ends; patches off the run keep their places. A patch at only one of the
+/// two limits is not at its weakest, and a design without any is not thinned.
+#[test]
+fn thinning_takes_the_middle_of_the_weakest_run_and_respaces_it() {
+    let bounds = VariableBounds::default();
+    let (h, w) = (bounds.h_min_mm, bounds.w_min_mm);
+    // P1 wide (not weakest), P2–P5 weakest, unevenly spaced, P6 long (not
+    // weakest), P7 weakest on its own.
+    let design = balloon(
+        300.0,
+        vec![
+            sized(5.0, 16.0, 3.0),
+            sized(40.0, h, w),
+            sized(80.0, h, w),
+            sized(120.0, h, w),
+            sized(150.0, h, w),
+            sized(200.0, 20.0, w),
+            sized(250.0, h, w),
+        ],
+    );
+    let (thinned, removed) = thinned(&design, &bounds).unwrap();
+    assert_eq!(removed, 4, "the middle of P2–P5");
+    let y: Vec<f64> = thinned.patches.iter().map(|p| p.y_mm).collect();
+    let expected = [5.0, 40.0, 95.0, 150.0, 200.0, 250.0];
+    assert_eq!(y.len(), expected.len());
+    for (got, want) in y.iter().zip(expected) {
+        assert!((got - want).abs() < 1e-9, "{y:?}");
+    }
+    // At its smallest height but wider than the narrowest: not weakest.
+    let strong = balloon(300.0, vec![sized(40.0, h, 2.0), sized(80.0, 20.0, w)]);
+    assert!(super::thinned(&strong, &bounds).is_none());
+    // A lone weakest patch goes, and nothing moves.
+    let lone = balloon(300.0, vec![sized(40.0, 20.0, 2.0), sized(80.0, h, w)]);
+    let (rest, removed) = super::thinned(&lone, &bounds).unwrap();
+    assert_eq!(removed, 2);
+    assert_eq!(rest.patches, vec![sized(40.0, 20.0, 2.0)]);
+}

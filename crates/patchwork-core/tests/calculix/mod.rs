@@ -23,10 +23,13 @@ use std::collections::HashMap;
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::Command;
 
 use patchwork_core::curve::Point;
 use patchwork_core::design::Patch;
+
+mod runner;
+
+use runner::{run_deck, tail};
 
 /// Geometry, materials and load of the cross-check (mm, MPa).
 #[derive(Debug, Clone, Copy)]
@@ -236,30 +239,12 @@ fn input_deck(tube: &Tube, model: &Model) -> String {
 /// Writes the deck into `dir`, runs `ccx` there and reads the tip ring.
 pub fn run(dir: &Path, tube: &Tube, mesh: &Mesh, patch: &Patch) -> Result<Run, String> {
     let model = build(tube, mesh, patch);
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    std::fs::write(dir.join("tube.inp"), input_deck(tube, &model))
-        .map_err(|e| format!("writing tube.inp: {e}"))?;
-    let started = std::time::Instant::now();
-    let output = Command::new("ccx")
-        .args(["-i", "tube"])
-        .current_dir(dir)
-        .env("OMP_NUM_THREADS", "2")
-        .output()
-        .map_err(|e| format!("cannot run ccx: {e}"))?;
-    let seconds = started.elapsed().as_secs_f64();
-    let log = String::from_utf8_lossy(&output.stdout);
-    let dat = std::fs::read_to_string(dir.join("tube.dat")).map_err(|e| {
-        format!(
-            "ccx wrote no tube.dat ({e}); its output ends:\n{}",
-            tail(&log)
-        )
-    })?;
-    let (time, displacements) = last_tip_block(&dat)?;
-    if !output.status.success() || (time - 1.0).abs() > 1e-9 || log.contains("*ERROR") {
+    let output = run_deck(dir, &input_deck(tube, &model))?;
+    let (time, displacements) = last_tip_block(&output.dat)?;
+    if !output.clean || (time - 1.0).abs() > 1e-9 {
         return Err(format!(
-            "ccx stopped at step time {time} (status {}); its output ends:\n{}",
-            output.status,
-            tail(&log)
+            "ccx stopped at step time {time}; its output ends:\n{}",
+            tail(&output.log)
         ));
     }
     let tip_reference: Vec<Point> = model.tip.iter().map(|&n| model.nodes[n - 1]).collect();
@@ -279,8 +264,8 @@ pub fn run(dir: &Path, tube: &Tube, mesh: &Mesh, patch: &Patch) -> Result<Run, S
         tip_deformed,
         patch_area: model.patch_area,
         nodes: model.nodes.len(),
-        newton_iterations: log.matches(" iteration ").count(),
-        seconds,
+        newton_iterations: output.log.matches(" iteration ").count(),
+        seconds: output.seconds,
     })
 }
 
@@ -320,9 +305,4 @@ fn last_tip_block(dat: &str) -> Result<(f64, HashMap<usize, Point>), String> {
         }
     }
     Ok((time, displacements))
-}
-
-fn tail(log: &str) -> String {
-    let lines: Vec<&str> = log.lines().collect();
-    lines[lines.len().saturating_sub(15)..].join("\n")
 }

@@ -3,15 +3,21 @@
 //! the design was; the one with the lower verified shape error, by more
 //! than `MARGIN`, is kept. Every layout tried is reported.
 //!
+//! A design whose error stays above `HIGH_ERROR_PERCENT` with patches
+//! at their smallest and narrowest is then thinned: one of them taken out
+//! and its neighbours respaced, refined, kept if the error falls, up to
+//! `THINNING_ROUNDS` times.
+//!
 //! A planar design's candidate is tried planar first; when that does not
 //! win, again with X and Θ free (inclined patches bend the tube less than
 //! axial ones of the same size, which a gentle bend may need). If the free
 //! one wins the design is no longer planar, and the report says so.
 
 use super::super::errors::DesignRunError;
-use super::super::layout::{LayoutTrial, with_gentle_bends};
+use super::super::layout::{LayoutTrial, thinned, with_gentle_bends};
 use super::super::planar::flattened;
 use super::super::run::{Context, Run};
+use super::super::shortfall::HIGH_ERROR_PERCENT;
 use super::RunStage;
 use super::refine::Refine;
 use super::seed::ksa_params;
@@ -20,9 +26,15 @@ use crate::design::Design;
 use crate::fe::Simulation;
 use crate::inverse::objective::SHAPE_SAMPLES;
 
-/// The candidate must lower the shape error by this fraction to be kept:
-/// more patches are more to cut and place.
+/// A layout with more patches must lower the shape error by this fraction
+/// to be kept: more patches are more to cut and place. One with fewer is
+/// kept when it lowers it at all.
 const MARGIN: f64 = 0.05;
+
+/// At most this many patches are taken out of a design whose shape error
+/// stays above `HIGH_ERROR_PERCENT` with patches at their weakest (each a
+/// refine of its own).
+const THINNING_ROUNDS: usize = 3;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Layout {
@@ -30,12 +42,14 @@ pub struct Layout {
     pub refine: Refine,
 }
 
-/// A layout to try: what it is, its patches, and whether its refine keeps
-/// it planar (X and Θ fixed).
+/// A layout to try: what it is, its patches, whether its refine keeps it
+/// planar (X and Θ fixed), and by what fraction it must lower the shape
+/// error to be kept.
 struct Candidate {
     layout: String,
     design: Design,
     planar: bool,
+    margin: f64,
 }
 
 /// A candidate refined and verified on the design's mesh.
@@ -49,35 +63,30 @@ struct Tried {
 impl RunStage for Layout {
     fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
         let current = run.take_verified("layout")?;
-        let current_error = error_of(run, &current);
+        let mut error = error_of(run, &current);
         run.verified = Some(current);
         run.layouts = vec![LayoutTrial {
             layout: "KSA's (refined)".into(),
             patches: run.design.patches.len(),
-            shape_error_percent: current_error,
+            shape_error_percent: error,
             chosen: true,
         }];
         for candidate in candidates(run) {
-            ctx.check_cancelled()?;
-            let planar = candidate.planar;
-            let mut trial = LayoutTrial {
-                layout: candidate.layout.clone(),
-                patches: candidate.design.patches.len(),
-                shape_error_percent: f64::NAN,
-                chosen: false,
+            if let Some(lower) = self.consider(run, ctx, candidate, error)? {
+                error = lower;
+                break;
+            }
+        }
+        for _ in 0..THINNING_ROUNDS {
+            if error <= HIGH_ERROR_PERCENT {
+                break;
+            }
+            let Some(candidate) = thinned_candidate(run) else {
+                break;
             };
-            let tried = self.try_layout(run, ctx, candidate)?;
-            trial.shape_error_percent = tried.as_ref().map_or(f64::NAN, |t| t.error);
-            let better = trial.shape_error_percent < (1.0 - MARGIN) * current_error;
-            match (better, tried) {
-                (true, Some(tried)) => {
-                    adopt(run, tried, planar);
-                    run.layouts[0].chosen = false;
-                    trial.chosen = true;
-                    run.layouts.push(trial);
-                    break;
-                }
-                _ => run.layouts.push(trial),
+            match self.consider(run, ctx, candidate, error)? {
+                Some(lower) => error = lower,
+                None => break,
             }
         }
         Ok(())
@@ -85,6 +94,39 @@ impl RunStage for Layout {
 }
 
 impl Layout {
+    /// Tries `candidate` and records it; adopts it when its shape error is
+    /// below `current` by its margin, and then returns that error.
+    fn consider(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+        candidate: Candidate,
+        current: f64,
+    ) -> Result<Option<f64>, DesignRunError> {
+        ctx.check_cancelled()?;
+        let (planar, margin) = (candidate.planar, candidate.margin);
+        let mut trial = LayoutTrial {
+            layout: candidate.layout.clone(),
+            patches: candidate.design.patches.len(),
+            shape_error_percent: f64::NAN,
+            chosen: false,
+        };
+        let tried = self.try_layout(run, ctx, candidate)?;
+        trial.shape_error_percent = tried.as_ref().map_or(f64::NAN, |t| t.error);
+        let better = trial.shape_error_percent < (1.0 - margin) * current;
+        let adopted = match (better, tried) {
+            (true, Some(tried)) => {
+                adopt(run, tried, planar);
+                run.layouts.iter_mut().for_each(|l| l.chosen = false);
+                trial.chosen = true;
+                Some(trial.shape_error_percent)
+            }
+            _ => None,
+        };
+        run.layouts.push(trial);
+        Ok(adopted)
+    }
+
     /// `candidate` refined like the design and simulated on the mesh the
     /// design was verified on; none when its start does not solve.
     fn try_layout(
@@ -140,6 +182,7 @@ fn candidates(run: &Run<'_>) -> Vec<Candidate> {
         layout: layout.clone(),
         design: gentle.clone(),
         planar: false,
+        margin: MARGIN,
     };
     if !setup.input.planar_design {
         return vec![free];
@@ -152,6 +195,7 @@ fn candidates(run: &Run<'_>) -> Vec<Candidate> {
             ..gentle
         },
         planar: true,
+        margin: MARGIN,
     };
     vec![
         planar,
@@ -160,6 +204,20 @@ fn candidates(run: &Run<'_>) -> Vec<Candidate> {
             ..free
         },
     ]
+}
+
+/// The design less one of its weakest patches (`layout::thinned`), the
+/// design's planarity kept.
+fn thinned_candidate(run: &Run<'_>) -> Option<Candidate> {
+    let (design, removed) = thinned(&run.design, &run.setup.settings.bounds)?;
+    Some(Candidate {
+        layout: format!(
+            "P{removed} (at its smallest) taken out, its neighbours respaced (refined)"
+        ),
+        design,
+        planar: run.setup.input.planar_design,
+        margin: 0.0,
+    })
 }
 
 /// The tried layout as the run's design; a layout refined with X and Θ
