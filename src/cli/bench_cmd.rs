@@ -323,10 +323,19 @@ fn verdict(o: &DesignOutcome) -> String {
             .out_of_reach
             .iter()
             .map(|span| {
-                format!(
-                    "no: s {:.0}–{:.0} mm needs r {:.0} mm",
-                    span.s_start_mm, span.s_end_mm, span.needs_bend_radius_mm
-                )
+                let (from, to) = (span.s_start_mm, span.s_end_mm);
+                match span.tightest_bend_radius_mm {
+                    // Too tight a bend for its twist per bend.
+                    Some(_) => format!(
+                        "no: s {from:.0}–{to:.0} mm needs r {:.0} mm",
+                        span.needs_bend_radius_mm
+                    ),
+                    // More twist per bend than any patch makes.
+                    None => format!(
+                        "no: s {from:.0}–{to:.0} mm needs {:.1} twist per bend (r {:.0} mm)",
+                        span.needs_twist_per_bend, span.needs_bend_radius_mm
+                    ),
+                }
             })
             .collect::<Vec<_>>()
             .join("; "),
