@@ -5,6 +5,7 @@
 use patchwork_core::curve::{AnalysisOptions, Curve, analyse};
 use patchwork_core::design::Patch;
 use patchwork_core::fe::Simulation;
+use patchwork_core::fe::contact::{SelfContact, self_contacts};
 use patchwork_core::ksa::KsaResult;
 use serde::Serialize;
 
@@ -75,6 +76,9 @@ pub struct SimulateReport {
     pub stable: bool,
     pub relative_residual: f64,
     pub volume_mm3: f64,
+    /// Where the inflated tube passes through itself; empty when it clears.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub self_contact: Vec<SelfContact>,
     /// The inflated membrane, when asked for (`surface: true`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub surface: Option<Surface>,
@@ -142,6 +146,7 @@ impl SimulateReport {
             stable: sim.stats.stable,
             relative_residual: sim.stats.residual,
             volume_mm3: sim.volume_mm3,
+            self_contact: self_contacts(&sim.rings),
             surface: None,
         }
     }

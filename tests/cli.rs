@@ -327,6 +327,27 @@ fn simulate_json_has_the_contract_fields_and_files() {
     );
 }
 
+/// A balloon curled past a full turn passes through itself: `simulate`
+/// says where, in JSON and in its summary; a gentle bend says nothing.
+#[test]
+fn simulate_reports_where_the_tube_passes_through_itself() {
+    let curl = r#"{"balloon": {"length_mm": 150}, "patches": [{"x_mm": 5, "y_mm": 75, "h_mm": 140, "w_mm": 3, "theta_deg": 0}]}"#;
+    let report = json(&patchwork_with_stdin(&["simulate", "-", "--json"], curl));
+    let contacts = report["self_contact"].as_array().expect("a contact");
+    assert_eq!(contacts.len(), 1, "{contacts:?}");
+    let overlap = contacts[0]["overlap_mm"].as_f64().unwrap();
+    assert!((15.0..25.0).contains(&overlap), "{overlap}");
+    let text = patchwork_with_stdin(&["simulate", "-"], curl);
+    let stdout = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        stdout.contains("contact:") && stdout.contains("into itself"),
+        "{stdout}"
+    );
+    let gentle = r#"{"balloon": {"length_mm": 100}, "patches": [{"x_mm": 0, "y_mm": 50, "h_mm": 20, "w_mm": 3, "theta_deg": 0}]}"#;
+    let report = json(&patchwork_with_stdin(&["simulate", "-", "--json"], gentle));
+    assert!(report.get("self_contact").is_none(), "{report}");
+}
+
 #[test]
 fn simulate_takes_the_cut_element_rule() {
     // An oblique patch on a coarse mesh: most of its elements are cut. The area

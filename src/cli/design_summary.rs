@@ -2,6 +2,7 @@
 //! to the target and where it is out of reach, the stages, limits hit and
 //! the patches.
 
+use patchwork_core::fe::contact::SelfContact;
 use patchwork_core::inverse::layout::LayoutTrial;
 use patchwork_core::inverse::reach::ReachReport;
 use patchwork_core::inverse::shortfall::HIGH_ERROR_PERCENT;
@@ -34,6 +35,7 @@ pub fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
     s.push_str(&as_given_line(r));
     s.push_str(&shortfall_line(r));
     s.push_str(&reach_lines(r.reach.as_ref()));
+    s.push_str(&contact_lines(r));
     s.push_str(&refine_line("refine:      ", r.refine.as_ref()));
     s.push_str(&layout_lines(&r.layouts));
     s.push_str(&refine_line("final refine:", r.final_refine.as_ref()));
@@ -140,6 +142,20 @@ fn shortfall_line(r: &DesignReport) -> String {
 }
 
 /// Whether the target is within reach, and where not.
+/// Where the predicted tube passes through itself, a line each.
+fn contact_lines(r: &DesignReport) -> String {
+    r.self_contact.iter().map(contact_line).collect()
+}
+
+/// One self-contact as the CLI prints it (`design` and `simulate`).
+pub fn contact_line(c: &SelfContact) -> String {
+    format!(
+        "contact:      the tube passes {:.1} mm into itself at s {:.0} and {:.0} mm \
+         (balloon Y {:.0} and {:.0} mm); the real balloon pushes apart there\n",
+        c.overlap_mm, c.s_mm[0], c.s_mm[1], c.y_mm[0], c.y_mm[1]
+    )
+}
+
 fn reach_lines(reach: Option<&ReachReport>) -> String {
     let Some(reach) = reach else {
         return String::new();

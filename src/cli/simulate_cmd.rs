@@ -11,6 +11,7 @@ use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
 
+use super::design_summary::contact_line;
 use super::output::{emit, emit_json};
 use crate::reports::SimulateReport;
 
@@ -80,7 +81,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         return emit_json(&report);
     }
     let tip = sim.centreline.points().last().copied().unwrap_or_default();
-    emit(&format!(
+    let text = format!(
         "converged   {} Newton iterations, {} continuation steps, {:.0} ms ({})\n\
          inflated    length {:.1} mm, mid-tube hoop stretch {:.3}, axial stretch {:.3}\n\
          tip         ({:.1}, {:.1}, {:.1}) mm; max curvature {:.4} mm⁻¹\n",
@@ -99,7 +100,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         tip.y,
         tip.z,
         sim.curvature.iter().copied().fold(0.0, f64::max),
-    ))
+    );
+    let contacts: String = report.self_contact.iter().map(contact_line).collect();
+    emit(&(text + &contacts))
 }
 
 fn write_files(dir: &PathBuf, sim: &Simulation) -> Result<()> {

@@ -37,6 +37,15 @@ function layouts(result) {
   return [["layouts tried", text.join("; ")]];
 }
 
+// Where the predicted tube passes through itself (the model has no contact).
+function selfContact(result) {
+  const contacts = result.self_contact ?? [];
+  if (!contacts.length) return [];
+  const text = contacts.map((c) =>
+    `${num(c.overlap_mm, 2)} mm deep at s ${num(c.s_mm[0], 3)} and ${num(c.s_mm[1], 3)} mm (balloon Y ${num(c.y_mm[0], 3)} and ${num(c.y_mm[1], 3)} mm)`);
+  return [["passes through itself", `${text.join("; ")}: the real balloon pushes apart there`]];
+}
+
 export async function showResult(page, jobId, result, preview) {
   const target = preview?.points_mm;
   const m = result.metrics;
@@ -47,6 +56,7 @@ export async function showResult(page, jobId, result, preview) {
     ...asGiven(result),
     ...shortfalls(result),
     ...layouts(result),
+    ...selfContact(result),
     ["DTW κ, τ", `${num(m.dtw_curvature, 3)}, ${num(m.dtw_torsion, 3)}`],
     ["target", `${num(result.target_length_mm, 4)} mm`],
     ["inflated", `${num(result.inflated_length_mm, 4)} mm`],
@@ -109,8 +119,9 @@ function patchTable(page, design, target) {
       page.view.curve("edited", sim.centreline_mm.map(fit.apply), {
         colour: "#2b8a3e", label: "edited patches, inflated (centreline)", radius: page.tubeRadius * 0.8 });
       page.view.render();
+      const contact = selfContact(sim).map(([k, v]) => `; ${k}: ${v}`).join("");
       $("#simulate-info").textContent =
-        `edited design: shape error ${num(fit.percent, 3)} % (${num(fit.rmsMm, 3)} mm), inflated ${num(sim.inflated_length_mm, 4)} mm, ${num(seconds, 2)} s`;
+        `edited design: shape error ${num(fit.percent, 3)} % (${num(fit.rmsMm, 3)} mm), inflated ${num(sim.inflated_length_mm, 4)} mm, ${num(seconds, 2)} s${contact}`;
     } catch (error) {
       $("#simulate-info").textContent = "";
       $("#simulate-error").textContent = error.field ? `${error.field}: ${error.message}` : error.message;

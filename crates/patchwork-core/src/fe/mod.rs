@@ -7,11 +7,13 @@
 //! inflation through the bulge), then lets the patched regions relax by
 //! continuation in patch stiffness with automatic step control.
 //!
-//! Not modelled: gravity, self-contact (a knot passes through itself), inflation
-//! dynamics, wall-thickness variation of real balloons, bending stiffness.
+//! Not modelled: gravity, self-contact (a knot passes through itself; `contact`
+//! finds where the predicted shape does), inflation dynamics, wall-thickness
+//! variation of real balloons, bending stiffness.
 
 mod carry;
 pub mod centreline;
+pub mod contact;
 pub mod element;
 pub mod export;
 pub mod grading;

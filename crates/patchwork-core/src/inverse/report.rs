@@ -10,6 +10,7 @@ use super::outcome::{AsGiven, DesignOutcome, Metrics, Profiles, RefineSummary, S
 use super::reach::ReachReport;
 use super::shortfall::Explained;
 use crate::design::Design;
+use crate::fe::contact::{SelfContact, self_contacts};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DesignReport {
@@ -69,6 +70,11 @@ pub struct DesignReport {
     /// otherwise.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub shortfalls: Vec<Explained>,
+    /// Where the predicted inflated tube passes through itself (the model
+    /// has no contact: the real balloon would push apart there); empty when
+    /// it does not.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub self_contact: Vec<SelfContact>,
 }
 
 impl DesignReport {
@@ -103,6 +109,7 @@ impl DesignReport {
             reach: outcome.reach.clone(),
             layouts: outcome.layouts.clone(),
             shortfalls: outcome.shortfalls.iter().map(Explained::from).collect(),
+            self_contact: self_contacts(&outcome.simulation.rings),
         }
     }
 }

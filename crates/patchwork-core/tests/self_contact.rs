@@ -1,0 +1,50 @@
+//! Self-contact of simulated balloons (`fe::contact`): the membrane model
+//! lets the tube pass through itself, and the report must say where.
+//!
+//! A 150 mm balloon with a 140 mm patch at Θ = 0 curls in its plane past a
+//! full turn (322 mm inflated, the curl about 24 mm in radius): its later
+//! turn passes about 21 mm into its first. The same patch at Θ = 10° winds
+//! a helix whose pitch clears the turns, and the bare balloon is straight.
+
+use patchwork_core::design::{Design, Patch};
+use patchwork_core::fe::contact::{SelfContact, self_contacts};
+use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::{SimulateOptions, simulate};
+
+fn contacts(patches: Vec<Patch>) -> Vec<SelfContact> {
+    let mut design = Design::reference(patches);
+    design.balloon.length_mm = 150.0;
+    let options = SimulateOptions {
+        mesh: MeshSpec::uniform(1.0),
+        ..SimulateOptions::default()
+    };
+    let sim = simulate(&design, &options).expect("the balloon inflates");
+    self_contacts(&sim.rings)
+}
+
+fn long_patch(theta_deg: f64) -> Patch {
+    Patch {
+        x_mm: 5.0,
+        y_mm: 75.0,
+        h_mm: 140.0,
+        w_mm: 3.0,
+        theta_deg,
+    }
+}
+
+#[test]
+fn a_curl_past_a_full_turn_passes_through_itself_and_a_helix_does_not() {
+    let curl = contacts(vec![long_patch(0.0)]);
+    assert_eq!(curl.len(), 1, "{curl:?}");
+    let c = curl[0];
+    assert!((15.0..25.0).contains(&c.overlap_mm), "{c:?}");
+    // About one turn of a curl some 24 mm in radius apart along the tube:
+    // the curl's middle against its end (the patch covers Y 5–145 mm of
+    // the 150 mm balloon).
+    let apart = c.s_mm[1] - c.s_mm[0];
+    assert!((100.0..200.0).contains(&apart), "{c:?}");
+    assert!((5.0..145.0).contains(&c.y_mm[0]), "{c:?}");
+    assert!((c.y_mm[0] + 30.0..=150.0).contains(&c.y_mm[1]), "{c:?}");
+    assert!(contacts(vec![long_patch(10.0)]).is_empty());
+    assert!(contacts(vec![]).is_empty());
+}
