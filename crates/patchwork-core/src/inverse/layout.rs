@@ -150,7 +150,8 @@ fn frame_offset(design: &[Patch], candidates: &[Patch], circumference: f64) -> f
 }
 
 /// The design less one of its weakest patches, and which one (its number
-/// as in the tables), or none when no patch is at its weakest.
+/// as in the tables), or none when no patch is at its weakest or the
+/// design has only one.
 ///
 /// A patch the refine left at both its smallest height and its narrowest
 /// width bends the tube more than the target wants even so: a gentle bend
@@ -160,6 +161,10 @@ fn frame_offset(design: &[Patch], candidates: &[Patch], circumference: f64) -> f
 /// first and last (each refine moves a patch only within its Y window, so
 /// the spacing has to be set here).
 pub fn thinned(design: &Design, bounds: &VariableBounds) -> Option<(Design, usize)> {
+    // A design keeps one patch at least: a curved target never ends bare.
+    if design.patches.len() < 2 {
+        return None;
+    }
     let mut order: Vec<usize> = (0..design.patches.len()).collect();
     order.sort_by(|&a, &b| design.patches[a].y_mm.total_cmp(&design.patches[b].y_mm));
     let limits = at_limits(&design.patches, bounds);

@@ -151,4 +151,7 @@ fn thinning_takes_the_middle_of_the_weakest_run_and_respaces_it() {
     let (rest, removed) = super::thinned(&lone, &bounds).unwrap();
     assert_eq!(removed, 2);
     assert_eq!(rest.patches, vec![sized(40.0, 20.0, 2.0)]);
+    // The last patch stays, weakest or not.
+    let single = balloon(300.0, vec![sized(80.0, h, w)]);
+    assert!(super::thinned(&single, &bounds).is_none());
 }
