@@ -2,8 +2,8 @@
 //! lets the tube pass through itself, and the report must say where.
 //!
 //! A 150 mm balloon with a 140 mm patch at Θ = 0 curls in its plane past a
-//! full turn (322 mm inflated, the curl about 24 mm in radius): its later
-//! turn passes about 21 mm into its first. The same patch at Θ = 10° winds
+//! full turn (322 mm inflated, the curl about 24 mm in radius): its last
+//! turn passes about 21 mm into the curl. The same patch at Θ = 10° winds
 //! a helix whose pitch clears the turns, and the bare balloon is straight.
 
 use patchwork_core::design::{Design, Patch};
@@ -34,9 +34,13 @@ fn long_patch(theta_deg: f64) -> Patch {
 
 #[test]
 fn a_curl_past_a_full_turn_passes_through_itself_and_a_helix_does_not() {
+    // The last turn passes into the first (and, on some meshes, separately
+    // into the middle of the curl): the deepest contact.
     let curl = contacts(vec![long_patch(0.0)]);
-    assert_eq!(curl.len(), 1, "{curl:?}");
-    let c = curl[0];
+    let c = *curl
+        .iter()
+        .max_by(|a, b| a.overlap_mm.total_cmp(&b.overlap_mm))
+        .expect("the curl passes through itself");
     assert!((15.0..25.0).contains(&c.overlap_mm), "{c:?}");
     // About one turn of a curl some 24 mm in radius apart along the tube:
     // the curl's middle against its end (the patch covers Y 5–145 mm of
