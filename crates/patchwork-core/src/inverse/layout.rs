@@ -25,7 +25,7 @@ use std::f64::consts::TAU;
 
 use serde::{Deserialize, Serialize};
 
-use super::limits::at_limits;
+use super::limits::at_weakest;
 use super::variables::VariableBounds;
 use crate::curve::{AnalysisOptions, Curve, analyse};
 use crate::design::{Design, Patch};
@@ -167,14 +167,7 @@ pub fn thinned(design: &Design, bounds: &VariableBounds) -> Option<(Design, usiz
     }
     let mut order: Vec<usize> = (0..design.patches.len()).collect();
     order.sort_by(|&a, &b| design.patches[a].y_mm.total_cmp(&design.patches[b].y_mm));
-    let limits = at_limits(&design.patches, bounds);
-    let on = |index: usize, bound: &str| {
-        limits
-            .iter()
-            .any(|l| l.patch == index + 1 && l.bound == bound)
-    };
-    let weakest = |index: usize| on(index, "bounds.h_min_mm") && on(index, "bounds.w_min_mm");
-    let run = longest_run(&order, weakest)?;
+    let run = longest_run(&order, |i| at_weakest(&design.patches[i], bounds))?;
     let removed = run[run.len() / 2];
     let kept: Vec<usize> = run.iter().copied().filter(|&i| i != removed).collect();
     let (first, last) = (
@@ -200,19 +193,12 @@ pub fn thinned(design: &Design, bounds: &VariableBounds) -> Option<(Design, usiz
 }
 
 /// The longest run of consecutive entries of `order` that are `weakest`.
-fn longest_run(order: &[usize], weakest: impl Fn(usize) -> bool) -> Option<Vec<usize>> {
-    let mut best: Vec<usize> = Vec::new();
-    let mut current = Vec::new();
-    for &index in order {
-        match weakest(index) {
-            true => current.push(index),
-            false => current.clear(),
-        }
-        if current.len() > best.len() {
-            best = current.clone();
-        }
-    }
-    (!best.is_empty()).then_some(best)
+fn longest_run(order: &[usize], weakest: impl Fn(usize) -> bool) -> Option<&[usize]> {
+    order
+        .chunk_by(|&a, &b| weakest(a) == weakest(b))
+        .filter(|run| weakest(run[0]))
+        .rev()
+        .max_by_key(|run| run.len())
 }
 
 #[cfg(test)]

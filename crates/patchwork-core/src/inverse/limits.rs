@@ -64,7 +64,7 @@ pub fn at_limits(patches: &[Patch], bounds: &VariableBounds) -> Vec<AtLimit> {
     for (index, patch) in patches.iter().enumerate() {
         let values = [patch.h_mm, patch.w_mm, patch.theta_deg];
         for ((field, low_name, high_name, low, high), value) in ranges.iter().zip(values) {
-            let tolerance = ON_LIMIT * (high - low).abs();
+            let tolerance = tolerance(*low, *high);
             let hit = if value <= low + tolerance {
                 Some((low_name, *low))
             } else if value >= high - tolerance {
@@ -85,6 +85,21 @@ pub fn at_limits(patches: &[Patch], bounds: &VariableBounds) -> Vec<AtLimit> {
         }
     }
     found
+}
+
+/// How near a value must be to an end of `low..high` to count as on it.
+fn tolerance(low: f64, high: f64) -> f64 {
+    ON_LIMIT * (high - low).abs()
+}
+
+/// Whether `patch` is at its weakest: its height and its width both on
+/// (or below) their lower limits, as [`at_limits`] judges them.
+pub fn at_weakest(patch: &Patch, bounds: &VariableBounds) -> bool {
+    let (h, w) = (
+        (bounds.h_min_mm, bounds.h_max_mm),
+        (bounds.w_min_mm, bounds.w_max_mm),
+    );
+    patch.h_mm <= h.0 + tolerance(h.0, h.1) && patch.w_mm <= w.0 + tolerance(w.0, w.1)
 }
 
 #[cfg(test)]
