@@ -141,7 +141,6 @@ fn shortfall_line(r: &DesignReport) -> String {
     )
 }
 
-/// Whether the target is within reach, and where not.
 /// Where the predicted tube passes through itself, a line each.
 fn contact_lines(r: &DesignReport) -> String {
     r.self_contact.iter().map(contact_line).collect()
@@ -156,6 +155,7 @@ pub fn contact_line(c: &SelfContact) -> String {
     )
 }
 
+/// Whether the target is within reach, and where not.
 fn reach_lines(reach: Option<&ReachReport>) -> String {
     let Some(reach) = reach else {
         return String::new();

@@ -19,6 +19,7 @@ pub use differential::{Analysis, AnalysisOptions, DerivativeScheme, analyse};
 pub use dtw::dtw;
 pub use error::{CurveError, Location};
 pub use frames::{Frame, bishop_frames, frenet_frames};
+pub(crate) use polyline::cumulative_length;
 pub use polyline::{Curve, largest_gap};
 pub use presets::{Preset, ReferenceCurve};
 pub use profile::interpolate;

@@ -186,7 +186,7 @@ fn bounding_extent(points: &[Point]) -> f64 {
 }
 
 /// Arc length at each point of a polyline, from 0 at the first.
-pub(super) fn cumulative_length(points: &[Point]) -> Vec<f64> {
+pub(crate) fn cumulative_length(points: &[Point]) -> Vec<f64> {
     let mut s = Vec::with_capacity(points.len());
     let mut total = 0.0;
     s.push(0.0);

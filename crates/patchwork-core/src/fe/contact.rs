@@ -16,7 +16,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::centreline::Ring;
-use crate::curve::Point;
+use crate::curve::{Point, cumulative_length};
 
 /// Overlaps smaller than this (mm) are touching, not passing through.
 const TOUCHING_MM: f64 = 0.01;
@@ -42,13 +42,19 @@ struct OnTube {
     t: f64,
 }
 
+/// Two points of the tube closer than their radii allow, and by how much.
+#[derive(Debug, Clone, Copy)]
+struct Touch {
+    overlap: f64,
+    p: OnTube,
+    q: OnTube,
+}
+
 /// Every contact of the tube described by `rings` (base to tip), deepest
 /// point per contact, ordered along the tube.
 pub fn self_contacts(rings: &[Ring]) -> Vec<SelfContact> {
-    let mut s = vec![0.0];
-    for w in rings.windows(2) {
-        s.push(s[s.len() - 1] + (w[1].centre - w[0].centre).norm());
-    }
+    let centres: Vec<Point> = rings.iter().map(|r| r.centre).collect();
+    let s = cumulative_length(&centres);
     let at = |p: OnTube| {
         let (a, b) = (&rings[p.segment], &rings[p.segment + 1]);
         let lerp = |x: f64, y: f64| x + p.t * (y - x);
@@ -59,9 +65,9 @@ pub fn self_contacts(rings: &[Ring]) -> Vec<SelfContact> {
         )
     };
     // The deepest overlap of every segment with any other far enough along.
-    let mut deepest: Vec<Option<(f64, OnTube, OnTube)>> = Vec::new();
+    let mut deepest: Vec<Option<Touch>> = Vec::new();
     for i in 0..rings.len().saturating_sub(1) {
-        let mut best: Option<(f64, OnTube, OnTube)> = None;
+        let mut best: Option<Touch> = None;
         for j in i + 1..rings.len() - 1 {
             let (u, v, distance) = closest(
                 [rings[i].centre, rings[i + 1].centre],
@@ -71,8 +77,8 @@ pub fn self_contacts(rings: &[Ring]) -> Vec<SelfContact> {
             let ((sp, _, rp), (sq, _, rq)) = (at(p), at(q));
             let overlap = rp + rq - distance;
             let apart = sq - sp > std::f64::consts::FRAC_PI_2 * (rp + rq);
-            if apart && overlap > TOUCHING_MM && best.is_none_or(|b| overlap > b.0) {
-                best = Some((overlap, p, q));
+            if apart && overlap > TOUCHING_MM && best.is_none_or(|b| overlap > b.overlap) {
+                best = Some(Touch { overlap, p, q });
             }
         }
         deepest.push(best);
@@ -80,10 +86,9 @@ pub fn self_contacts(rings: &[Ring]) -> Vec<SelfContact> {
     // Consecutive segments in contact with one stretch make one contact
     // (the partner moving on by less than twice the radii between them);
     // its deepest point.
-    let partner = |(_, _, q): &(f64, OnTube, OnTube)| at(*q);
-    let same = |a: &Option<(f64, OnTube, OnTube)>, b: &Option<(f64, OnTube, OnTube)>| match (a, b) {
+    let same = |a: &Option<Touch>, b: &Option<Touch>| match (a, b) {
         (Some(a), Some(b)) => {
-            let ((sa, _, ra), (sb, _, rb)) = (partner(a), partner(b));
+            let ((sa, _, ra), (sb, _, rb)) = (at(a.q), at(b.q));
             (sb - sa).abs() < 2.0 * (ra + rb)
         }
         (None, None) => true,
@@ -91,19 +96,18 @@ pub fn self_contacts(rings: &[Ring]) -> Vec<SelfContact> {
     };
     let mut contacts = Vec::new();
     for run in deepest.chunk_by(same) {
-        let Some((overlap, p, q)) = run
+        let Some(touch) = run
             .iter()
             .flatten()
-            .copied()
-            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .max_by(|a, b| a.overlap.total_cmp(&b.overlap))
         else {
             continue;
         };
-        let ((sp, yp, _), (sq, yq, _)) = (at(p), at(q));
+        let ((sp, yp, _), (sq, yq, _)) = (at(touch.p), at(touch.q));
         contacts.push(SelfContact {
             s_mm: [sp, sq],
             y_mm: [yp, yq],
-            overlap_mm: overlap,
+            overlap_mm: touch.overlap,
         });
     }
     contacts
