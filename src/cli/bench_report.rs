@@ -15,6 +15,7 @@ use super::bench_cmd::{BenchArgs, Row, measure_suite, median, plot, table};
 use super::bench_forward::{self, ForwardRow};
 use super::bench_suite::Suite;
 use super::bench_text::{header, known_limits};
+use super::bench_users::clean_stroke_of;
 
 /// The service bench's section, written by
 /// `cargo bench --bench service_load -- --out docs/bench/service.md`.
@@ -33,19 +34,20 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     std::fs::write(args.out.join("round-trips.md"), table(&trips, command))?;
     std::fs::write(args.out.join("users.md"), table(&users, command))?;
     let service = std::fs::read_to_string(args.out.join(SERVICE_SECTION)).ok();
+    let goals = UsersGoals::of(&users);
     let report = [
         head,
         headline(
             &curves,
             &trips,
-            &users,
+            &goals,
             &forward,
             service.as_deref(),
             &args.out,
         ),
         curve_section(&curves, &args.out),
         trip_section(&trips),
-        users_section(&users, &args.out),
+        users_section(&users, &goals, &args.out),
         forward_section(&forward),
         service_section(service.as_deref(), &args.out),
         known_limits(&curves),
@@ -88,7 +90,7 @@ fn summary(rows: &[Row], setting: &str) -> Summary {
 fn headline(
     curves: &[Row],
     trips: &[Row],
-    users_rows: &[Row],
+    goals: &UsersGoals,
     forward: &[ForwardRow],
     service: Option<&str>,
     out: &Path,
@@ -110,7 +112,6 @@ fn headline(
         "| {} random designs of 4–12 patches, layout unknown, `draft` | median {:.2} %, worst {worst:.2} %, every run ≤ {:.0} s |\n",
         t.curves, t.median, t.longest_s
     ));
-    let goals = UsersGoals::of(users_rows);
     s.push_str(&format!(
         "| {} curves as users send them, `draft` | median {:.2} %, worst within reach {:.2} % against the curve meant; {} of 4 goals met |\n",
         goals.curves, goals.median, goals.worst, goals.met()
@@ -237,8 +238,8 @@ impl UsersGoals {
             .iter()
             .filter(|r| r.figures.clean_error_percent.is_finite())
             .filter_map(|noisy| {
-                let stem = noisy.curve.split(" (").next()?;
-                let clean = rows.iter().find(|r| r.curve == format!("{stem}, clean"))?;
+                let clean = clean_stroke_of(&noisy.curve)?;
+                let clean = rows.iter().find(|r| r.curve == clean)?;
                 Some(noisy.figures.clean_error_percent - clean.figures.reference_error_percent)
             })
             .fold(f64::NAN, f64::max);
@@ -290,8 +291,7 @@ impl UsersGoals {
     }
 }
 
-fn users_section(rows: &[Row], out: &Path) -> String {
-    let goals = UsersGoals::of(rows);
+fn users_section(rows: &[Row], goals: &UsersGoals, out: &Path) -> String {
     let mut s = format!(
         "## Curves as users send them\n\n\
          Curves as they arrive rather than as presets write them, each designed \
@@ -347,5 +347,50 @@ fn service_section(service: Option<&str>, out: &Path) -> String {
             "## HTTP service under load\n\nNot measured in this report: run `{command}` \
              before the report to include it.\n"
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::bench_cmd::Sample;
+
+    fn row(curve: &str, error: f64, clean: f64, patches: f64, reach: &str) -> Row {
+        Row {
+            curve: curve.into(),
+            setting: "draft".into(),
+            figures: Sample {
+                reference_error_percent: error,
+                clean_error_percent: clean,
+                patches,
+                ..Sample::unknown()
+            },
+            reach: reach.into(),
+            failures: 0,
+        }
+    }
+
+    /// The goals count curves within reach only, a noisy stroke against its
+    /// clean stroke (the curve meant) and beside its clean stroke's design,
+    /// and name the curves left without patches.
+    #[test]
+    fn the_users_goals_judge_the_curve_meant_within_reach() {
+        let nan = f64::NAN;
+        let rows = [
+            row("gentle arc", 0.4, nan, 3.0, "yes"),
+            row("stroke A (±0.3 mm)", 0.2, 0.7, 6.0, "yes"),
+            row("stroke A, clean", 0.3, nan, 5.0, "yes"),
+            row("kink", 9.0, nan, 0.0, "no: s 10–12 mm needs r 3 mm"),
+        ];
+        let goals = UsersGoals::of(&rows);
+        assert_eq!(goals.curves, 4);
+        // Within reach, against the curve meant: 0.4, 0.7 (not 0.2), 0.3.
+        assert!((goals.median - 0.4).abs() < 1e-12, "{}", goals.median);
+        assert!((goals.worst - 0.7).abs() < 1e-12, "{}", goals.worst);
+        assert!((goals.noisy_gap - 0.4).abs() < 1e-12, "{}", goals.noisy_gap);
+        assert_eq!(goals.without_patches, ["kink"]);
+        let met: Vec<bool> = goals.rows().iter().map(|(_, _, met)| *met).collect();
+        assert_eq!(met, [true, true, false, false]);
+        assert_eq!(goals.met(), 2);
     }
 }

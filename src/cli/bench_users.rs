@@ -86,9 +86,21 @@ fn noisy_strokes() -> Result<Vec<Target>> {
             curve: drawn,
             clean: Some(clean.clone()),
         });
-        targets.push(named(&format!("stroke {label}, clean"), clean));
+        targets.push(named(&clean_name(label), clean));
     }
     Ok(targets)
+}
+
+fn clean_name(label: &str) -> String {
+    format!("stroke {label}, clean")
+}
+
+/// The name of the clean stroke the drawn stroke `drawn` was drawn from
+/// (`stroke A (±0.3 mm)` → `stroke A, clean`): the report compares their
+/// designs.
+pub(super) fn clean_stroke_of(drawn: &str) -> Option<String> {
+    let label = drawn.strip_prefix("stroke ")?.split_once(" (±")?.0;
+    Some(clean_name(label))
 }
 
 /// Kinds the other suites lack: a saddle, a planar wave, Viviani's curve (a
@@ -160,6 +172,13 @@ mod tests {
         for target in &targets {
             let noisy = target.name.contains('±');
             assert_eq!(target.clean.is_some(), noisy, "{}", target.name);
+            // A drawn stroke's clean stroke is in the suite under the name
+            // the report looks for.
+            if noisy {
+                let clean = clean_stroke_of(&target.name).unwrap();
+                let twin = targets.iter().find(|t| t.name == clean).unwrap();
+                assert_eq!(Some(&twin.curve), target.clean.as_ref(), "{clean}");
+            }
             let (_, input) = prepare(&target.curve, Smoothing::Auto, 0.01).unwrap();
             let sparse = target.name.starts_with("CAD");
             assert_eq!(
