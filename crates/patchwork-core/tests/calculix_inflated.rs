@@ -101,6 +101,7 @@ fn scene(band: bool) -> Scene {
         wall: WALL,
         wall_mu: mu_mpa,
         lambda_m,
+        wall_mu0: balloon.shear_modulus(),
         bulk_ratio,
         pressure_mpa: PRESSURE_KPA * 1e-3,
         element: CCX_MM,
@@ -113,10 +114,22 @@ fn scene(band: bool) -> Scene {
 }
 
 /// What is compared: the mid-surface's radius and axial position at a
-/// reference position along the tube.
+/// reference position along the tube, linear between the samples.
 trait Tube {
+    /// (reference axial position, radius, axial position) base to tip.
+    fn meridian(&self) -> Vec<(f64, f64, f64)>;
+
     /// (radius, axial position) at reference position `z0`.
-    fn at(&self, z0: f64) -> (f64, f64);
+    fn at(&self, z0: f64) -> (f64, f64) {
+        let points = self.meridian();
+        let k = points
+            .windows(2)
+            .position(|w| w[0].0 <= z0 && z0 <= w[1].0)
+            .expect("z0 lies on the tube");
+        let (a, b) = (points[k], points[k + 1]);
+        let f = (z0 - a.0) / (b.0 - a.0);
+        (a.1 + f * (b.1 - a.1), a.2 + f * (b.2 - a.2))
+    }
 
     fn hoop(&self, z0: f64) -> f64 {
         self.at(z0).0 / RADIUS
@@ -133,25 +146,19 @@ trait Tube {
 }
 
 impl Tube for Profile {
-    fn at(&self, z0: f64) -> (f64, f64) {
-        Profile::at(self, z0)
+    /// ccx's mid-surface nodes.
+    fn meridian(&self) -> Vec<(f64, f64, f64)> {
+        self.points.clone()
     }
 }
 
 impl Tube for Simulation {
-    /// Linear between the fitted rings either side of `z0`.
-    fn at(&self, z0: f64) -> (f64, f64) {
-        let k = self
-            .rings
-            .windows(2)
-            .position(|w| w[0].y <= z0 && z0 <= w[1].y)
-            .expect("z0 lies on the tube");
-        let (a, b) = (&self.rings[k], &self.rings[k + 1]);
-        let f = (z0 - a.y) / (b.y - a.y);
-        (
-            a.radius + f * (b.radius - a.radius),
-            a.centre.z + f * (b.centre.z - a.centre.z),
-        )
+    /// Patchwork's fitted rings.
+    fn meridian(&self) -> Vec<(f64, f64, f64)> {
+        self.rings
+            .iter()
+            .map(|r| (r.y, r.radius, r.centre.z))
+            .collect()
     }
 }
 

@@ -47,9 +47,11 @@ pub struct Scene {
     pub length: f64,
     pub radius: f64,
     pub wall: f64,
-    /// The wall's Arruda–Boyce μ and λm.
+    /// The wall's Arruda–Boyce μ and λm, and its small-strain shear
+    /// modulus μ₀ (ABAQUS's: μ times a series in 1/λm²).
     pub wall_mu: f64,
     pub lambda_m: f64,
+    pub wall_mu0: f64,
     /// K₀/μ₀ of both materials.
     pub bulk_ratio: f64,
     pub pressure_mpa: f64,
@@ -80,21 +82,6 @@ pub struct Profile {
     /// Increment attempts of the three steps (cutbacks included).
     pub attempts: usize,
     pub seconds: f64,
-}
-
-impl Profile {
-    /// Deformed radius and axial position at reference position `z0` on the
-    /// tube (linear between corner nodes).
-    pub fn at(&self, z0: f64) -> (f64, f64) {
-        let k = self
-            .points
-            .windows(2)
-            .position(|w| w[0].0 <= z0 && z0 <= w[1].0)
-            .expect("z0 lies on the tube");
-        let (a, b) = (self.points[k], self.points[k + 1]);
-        let f = (z0 - a.0) / (b.0 - a.0);
-        (a.1 + f * (b.1 - a.1), a.2 + f * (b.2 - a.2))
-    }
 }
 
 /// The meridian: reference position of the mid-surface and its outward
@@ -216,16 +203,6 @@ fn input_deck(scene: &Scene, meridian: &Meridian) -> (String, f64) {
     (deck, band_height)
 }
 
-/// ABAQUS's μ₀ of the Arruda–Boyce model: μ times its series at λm.
-fn arruda_boyce_mu0(mu: f64, lambda_m: f64) -> f64 {
-    let b = 1.0 / (lambda_m * lambda_m);
-    mu * (1.0
-        + 3.0 / 5.0 * b
-        + 99.0 / 175.0 * b.powi(2)
-        + 513.0 / 875.0 * b.powi(3)
-        + 42039.0 / 67375.0 * b.powi(4))
-}
-
 fn materials(scene: &Scene, banded: bool) -> String {
     // D = 2/K₀ with K₀ = bulk_ratio · μ₀.
     let d = |mu0: f64| 2.0 / (scene.bulk_ratio * mu0);
@@ -234,7 +211,7 @@ fn materials(scene: &Scene, banded: bool) -> String {
          *SOLID SECTION,ELSET=WALL,MATERIAL=LATEX\n",
         scene.wall_mu,
         scene.lambda_m,
-        d(arruda_boyce_mu0(scene.wall_mu, scene.lambda_m))
+        d(scene.wall_mu0)
     );
     if let (true, Some(band)) = (banded, scene.band) {
         let mu = band.mu_t / scene.wall;
