@@ -10,7 +10,7 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
-use super::store::{Database, Store};
+use super::store::Database;
 
 #[derive(Debug, Args)]
 pub struct CopyJobsArgs {
@@ -75,10 +75,12 @@ fn count(n: usize, noun: &str) -> String {
 }
 
 async fn copy(from: &Database, to: &Database) -> Result<Tally> {
-    let source = Store::open(from)
+    let source = from
+        .open()
         .await
         .with_context(|| format!("--from: opening {from}"))?;
-    let destination = Store::open(to)
+    let destination = to
+        .open()
         .await
         .with_context(|| format!("--to: opening {to}"))?;
     let mut tally = Tally::default();

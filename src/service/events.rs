@@ -16,13 +16,13 @@ use tokio::sync::broadcast::error::RecvError;
 use super::auth::Owner;
 use super::jobs::owned;
 use super::problem::Problem;
-use super::state::{AppState, FINAL_EVENTS};
-use super::store::{StoredEvent, TERMINAL};
+use super::state::AppState;
+use super::store::StoredEvent;
 
 fn to_sse(event: &StoredEvent) -> Event {
     Event::default()
         .id(event.seq.to_string())
-        .event(&event.kind)
+        .event(event.kind.as_str())
         .data(&event.data)
 }
 
@@ -53,7 +53,7 @@ pub async fn stream(
     // An ended job's final event is already stored (it is written with the
     // status): the store alone has everything. Otherwise subscribe before
     // reading the store, so nothing falls between the two.
-    let ended = TERMINAL.contains(&row.status.as_str());
+    let ended = row.status.is_terminal();
     let mut live = (!ended).then(|| state.hub.subscribe(&id));
     let stream = async_stream::stream! {
         let mut last = last_seen;
@@ -66,7 +66,7 @@ pub async fn stream(
             for event in backlog.drain(..) {
                 if event.seq <= last { continue; }
                 last = event.seq;
-                finished |= FINAL_EVENTS.contains(&event.kind.as_str());
+                finished |= event.kind.is_final();
                 yield Ok::<Event, Infallible>(to_sse(&event));
             }
             let Some(receiver) = live.as_mut().filter(|_| !finished) else {

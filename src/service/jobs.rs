@@ -9,10 +9,11 @@ use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 
 use super::auth::Owner;
+use super::job_state::{Ending, EventKind, JobStatus};
 use super::problem::{ApiJson, Problem};
 use super::request::JobRequest;
 use super::state::{AppState, StopReason};
-use super::store::{JobRow, STATUSES};
+use super::store::JobRow;
 
 /// The files of a finished job.
 pub const FILES: [&str; 6] = [
@@ -28,7 +29,7 @@ pub const FILES: [&str; 6] = [
 #[derive(Debug, Serialize)]
 pub struct JobView {
     pub id: String,
-    pub status: String,
+    pub status: JobStatus,
     pub created_at: String,
     pub updated_at: String,
     pub progress: Value,
@@ -46,7 +47,7 @@ impl JobView {
             .collect();
         JobView {
             id: row.id.clone(),
-            status: row.status.clone(),
+            status: row.status,
             created_at: row.created_at.clone(),
             updated_at: row.updated_at.clone(),
             progress: row
@@ -93,22 +94,7 @@ pub async fn create(
         p.retry_after_s = Some(5);
         return Err(p);
     }
-    let key = match headers.get("Idempotency-Key") {
-        Some(v) => Some(
-            v.to_str()
-                .ok()
-                .filter(|k| !k.is_empty() && k.len() <= 255)
-                .ok_or_else(|| {
-                    Problem::new(
-                        StatusCode::BAD_REQUEST,
-                        "must be 1–255 visible ASCII characters",
-                    )
-                    .field("Idempotency-Key")
-                })?
-                .to_string(),
-        ),
-        None => None,
-    };
+    let key = idempotency_key(&headers)?;
     request.prepare()?;
     let stored = serde_json::to_string(&request).map_err(Problem::internal)?;
     if let Some(key) = &key
@@ -119,17 +105,7 @@ pub async fn create(
     {
         return replay(&existing, &stored);
     }
-    if state.store.queued_count().await? >= state.config.queue_capacity as i64 {
-        let mut p = Problem::new(
-            StatusCode::SERVICE_UNAVAILABLE,
-            format!(
-                "the queue is full ({} jobs waiting)",
-                state.config.queue_capacity
-            ),
-        );
-        p.retry_after_s = Some(30);
-        return Err(p);
-    }
+    room_in_queue(&state).await?;
     let id = uuid::Uuid::now_v7().to_string();
     let queued = json!({"stage": "queued"}).to_string();
     let inserted = state
@@ -139,7 +115,7 @@ pub async fn create(
             owner.stored(),
             &stored,
             key.as_deref(),
-            ("stage", &queued),
+            (EventKind::Stage, &queued),
         )
         .await?;
     let row = match inserted {
@@ -160,6 +136,39 @@ pub async fn create(
     tracing::info!(job = %row.id, "job queued");
     state.wake.notify_one();
     Ok(accepted(&row))
+}
+
+/// The `Idempotency-Key` header, if given: 1–255 visible ASCII characters.
+fn idempotency_key(headers: &HeaderMap) -> Result<Option<String>, Problem> {
+    let Some(value) = headers.get("Idempotency-Key") else {
+        return Ok(None);
+    };
+    let key = value
+        .to_str()
+        .ok()
+        .filter(|k| !k.is_empty() && k.len() <= 255)
+        .ok_or_else(|| {
+            Problem::new(
+                StatusCode::BAD_REQUEST,
+                "must be 1–255 visible ASCII characters",
+            )
+            .field("Idempotency-Key")
+        })?;
+    Ok(Some(key.to_string()))
+}
+
+/// A 503 with `Retry-After` when the queue holds `queue_capacity` jobs.
+async fn room_in_queue(state: &AppState) -> Result<(), Problem> {
+    let capacity = state.config.queue_capacity;
+    if state.store.queued_count().await? < capacity as i64 {
+        return Ok(());
+    }
+    let mut p = Problem::new(
+        StatusCode::SERVICE_UNAVAILABLE,
+        format!("the queue is full ({capacity} jobs waiting)"),
+    );
+    p.retry_after_s = Some(30);
+    Err(p)
 }
 
 /// Same key, same body: the same job. Same key, another body: a conflict
@@ -190,15 +199,17 @@ pub async fn list(
     query: Result<Query<ListQuery>, axum::extract::rejection::QueryRejection>,
 ) -> Result<Response, Problem> {
     let Query(query) = query.map_err(|e| Problem::new(StatusCode::BAD_REQUEST, e.body_text()))?;
-    if let Some(status) = &query.status
-        && !STATUSES.contains(&status.as_str())
-    {
-        return Err(Problem::new(
-            StatusCode::BAD_REQUEST,
-            "status must be one of queued, running, succeeded, failed, cancelled",
-        )
-        .field("status"));
-    }
+    let status = match query.status.as_deref().map(str::parse::<JobStatus>) {
+        None => None,
+        Some(Ok(status)) => Some(status),
+        Some(Err(_)) => {
+            return Err(Problem::new(
+                StatusCode::BAD_REQUEST,
+                format!("status must be one of {}", JobStatus::names()),
+            )
+            .field("status"));
+        }
+    };
     if let Some(cursor) = &query.cursor
         && !is_job_id(cursor)
     {
@@ -211,12 +222,7 @@ pub async fn list(
     let limit = page_limit(query.limit, 50, 500)?;
     let rows = state
         .store
-        .list_jobs(
-            owner.filter(),
-            query.status.as_deref(),
-            query.cursor.as_deref(),
-            limit,
-        )
+        .list_jobs(owner.filter(), status, query.cursor.as_deref(), limit)
         .await?;
     let next = (rows.len() as i64 == limit)
         .then(|| rows.last().map(|r| r.id.clone()))
@@ -272,14 +278,18 @@ pub async fn cancel(
     Path(id): Path<String>,
 ) -> Result<Response, Problem> {
     let row = owned(&state, &owner, &id).await?;
-    if row.status == "succeeded" || row.status == "failed" {
+    if matches!(row.status, JobStatus::Succeeded | JobStatus::Failed) {
         return Err(Problem::new(
             StatusCode::CONFLICT,
             format!("the job has already {}", row.status),
         ));
     }
     let event = json!({"reason": "cancelled by request"});
-    if row.status != "cancelled" && state.end_job(&id, "cancelled", None, &event, None).await? {
+    if row.status != JobStatus::Cancelled
+        && state
+            .end_job(&id, Ending::Cancelled, None, &event, None)
+            .await?
+    {
         if let Some(control) = state.control(&id) {
             control.stop(StopReason::Cancelled);
         }
@@ -354,9 +364,10 @@ fn page_limit(limit: Option<i64>, default: i64, max: i64) -> Result<i64, Problem
 fn not_ready(row: &JobRow) -> Problem {
     Problem::new(
         StatusCode::CONFLICT,
-        match row.status.as_str() {
-            "queued" | "running" => format!("the job is {}; its result is not ready", row.status),
-            other => format!("the job {other}; it has no result"),
+        if row.status.is_pending() {
+            format!("the job is {}; its result is not ready", row.status)
+        } else {
+            format!("the job {}; it has no result", row.status)
         },
     )
 }

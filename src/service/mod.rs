@@ -7,6 +7,7 @@ mod body_limit;
 mod config;
 pub mod copy_jobs;
 mod events;
+mod job_state;
 mod jobs;
 mod ops;
 mod problem;
@@ -37,7 +38,6 @@ pub use copy_jobs::CopyJobsArgs;
 use problem::Problem;
 use routes::Access;
 use state::{AppState, Shared};
-use store::Store;
 
 /// How long a graceful shutdown waits for running jobs to checkpoint.
 const SHUTDOWN_GRACE: Duration = Duration::from_secs(20);
@@ -60,7 +60,9 @@ pub fn run(args: ServeArgs) -> Result<()> {
 }
 
 async fn serve(config: Config) -> Result<()> {
-    let store = Store::open(&config.db)
+    let store = config
+        .db
+        .open()
         .await
         .with_context(|| format!("opening the database {}", config.db))?;
     let requeued = store.requeue_orphans().await?;

@@ -9,9 +9,9 @@ use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde_json::json;
 
+use super::job_state::JobStatus;
 use super::problem::Problem;
 use super::state::AppState;
-use super::store::STATUSES;
 
 pub const OPENAPI: &str = include_str!("../../openapi.yaml");
 
@@ -41,51 +41,82 @@ pub async fn openapi() -> Response {
     ([(header::CONTENT_TYPE, "application/yaml")], OPENAPI).into_response()
 }
 
-/// Prometheus text exposition format 0.0.4.
+/// Prometheus text exposition format 0.0.4: the store's jobs, then this
+/// node's workers and counters.
 pub async fn metrics(State(state): State<AppState>) -> Result<Response, Problem> {
     let by_status = state.store.count_by_status().await?;
-    let count = |status: &str| {
+    let mut out = Exposition::default();
+    job_metrics(&mut out, &by_status);
+    node_metrics(&mut out, &state);
+    Ok((
+        [(header::CONTENT_TYPE, "text/plain; version=0.0.4")],
+        out.text,
+    )
+        .into_response())
+}
+
+/// Metric families in the text format.
+#[derive(Default)]
+struct Exposition {
+    text: String,
+}
+
+impl Exposition {
+    /// A family's HELP and TYPE lines, then one sample per (labels or name
+    /// suffix, value).
+    fn family(&mut self, name: &str, kind: &str, help: &str, samples: &[(String, f64)]) {
+        let _ = writeln!(self.text, "# HELP {name} {help}\n# TYPE {name} {kind}");
+        for (labels, value) in samples {
+            let _ = writeln!(self.text, "{name}{labels} {value}");
+        }
+    }
+
+    /// A family of one unlabelled sample.
+    fn one(&mut self, name: &str, kind: &str, help: &str, value: f64) {
+        self.family(name, kind, help, &[(String::new(), value)]);
+    }
+}
+
+/// The queue's depth and the jobs by status, from the store.
+fn job_metrics(out: &mut Exposition, by_status: &[(JobStatus, i64)]) {
+    let count = |status: JobStatus| {
         by_status
             .iter()
-            .find(|(s, _)| s == status)
-            .map_or(0, |(_, n)| *n)
+            .find(|(s, _)| *s == status)
+            .map_or(0, |(_, n)| *n) as f64
     };
-    let c = &state.counters;
-    let mut out = String::new();
-    let mut metric = |name: &str, kind: &str, help: &str, lines: Vec<(String, f64)>| {
-        let _ = writeln!(out, "# HELP {name} {help}\n# TYPE {name} {kind}");
-        for (labels, value) in lines {
-            let _ = writeln!(out, "{name}{labels} {value}");
-        }
-    };
-    metric(
+    let queued = count(JobStatus::Queued);
+    out.one(
         "patchwork_queue_depth",
         "gauge",
         "Jobs waiting for a worker.",
-        vec![(String::new(), count("queued") as f64)],
+        queued,
     );
-    metric(
+    let by_status: Vec<(String, f64)> = JobStatus::ALL
+        .iter()
+        .map(|&s| (format!("{{status=\"{s}\"}}"), count(s)))
+        .collect();
+    out.family(
         "patchwork_jobs",
         "gauge",
         "Jobs in the store by status.",
-        STATUSES
-            .iter()
-            .map(|s| (format!("{{status=\"{s}\"}}"), count(s) as f64))
-            .collect(),
+        &by_status,
     );
-    metric(
+}
+
+/// This node's workers, the jobs they run, and the counters since start.
+fn node_metrics(out: &mut Exposition, state: &AppState) {
+    let c = &state.counters;
+    let workers = state.config.workers as f64;
+    out.one(
         "patchwork_workers",
         "gauge",
         "Design workers of this node.",
-        vec![(String::new(), state.config.workers as f64)],
+        workers,
     );
-    let running_here = state.running.lock().map_or(0, |r| r.len());
-    metric(
-        "patchwork_node_running_jobs",
-        "gauge",
-        "Jobs this node's workers are running.",
-        vec![(String::new(), running_here as f64)],
-    );
+    let running_here = state.running.lock().map_or(0, |r| r.len()) as f64;
+    let help = "Jobs this node's workers are running.";
+    out.one("patchwork_node_running_jobs", "gauge", help, running_here);
     for (name, help, counter) in [
         (
             "patchwork_claims_total",
@@ -102,23 +133,19 @@ pub async fn metrics(State(state): State<AppState>) -> Result<Response, Problem>
             "Runs this node stopped because another worker had claimed the job.",
             &c.leases_lost,
         ),
+        (
+            "patchwork_evaluations_total",
+            "Forward evaluations by design jobs since the server started.",
+            &c.forward_solves,
+        ),
     ] {
-        metric(
+        out.one(
             name,
             "counter",
             help,
-            vec![(String::new(), counter.load(Ordering::Relaxed) as f64)],
+            counter.load(Ordering::Relaxed) as f64,
         );
     }
-    metric(
-        "patchwork_evaluations_total",
-        "counter",
-        "Forward evaluations by design jobs since the server started.",
-        vec![(
-            String::new(),
-            c.forward_solves.load(Ordering::Relaxed) as f64,
-        )],
-    );
     for (name, help, timings) in [
         (
             "patchwork_job_seconds",
@@ -132,15 +159,10 @@ pub async fn metrics(State(state): State<AppState>) -> Result<Response, Problem>
         ),
     ] {
         // A summary without quantiles: the `_sum` and `_count` series.
-        metric(
-            name,
-            "summary",
-            help,
-            vec![
-                ("_sum".to_string(), timings.seconds()),
-                ("_count".to_string(), timings.count() as f64),
-            ],
-        );
+        let samples = [
+            ("_sum".to_string(), timings.seconds()),
+            ("_count".to_string(), timings.count() as f64),
+        ];
+        out.family(name, "summary", help, &samples);
     }
-    Ok(([(header::CONTENT_TYPE, "text/plain; version=0.0.4")], out).into_response())
 }

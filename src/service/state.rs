@@ -10,6 +10,7 @@ use tokio::sync::{Notify, broadcast};
 use patchwork_core::inverse::Caches;
 
 use super::config::Config;
+use super::job_state::{Ending, EventKind};
 use super::store::{Store, StoredEvent};
 
 pub type AppState = Arc<Shared>;
@@ -98,7 +99,7 @@ impl Hub {
     /// Sends an event to the job's listeners. After a final event the channel
     /// is dropped: listeners still receive what was sent, then `Closed`.
     pub fn publish(&self, job: &str, event: StoredEvent) {
-        let last = FINAL_EVENTS.contains(&event.kind.as_str());
+        let last = event.kind.is_final();
         let mut channels = self.channels.lock().unwrap_or_else(|p| p.into_inner());
         if let Some(sender) = channels.get(job)
             && (sender.send(event).is_err() || last)
@@ -108,9 +109,6 @@ impl Hub {
         }
     }
 }
-
-/// Event kinds after which a job sends nothing more.
-pub const FINAL_EVENTS: [&str; 3] = ["done", "failed", "cancelled"];
 
 /// Process-lifetime counters for /metrics.
 #[derive(Default)]
@@ -155,7 +153,7 @@ impl Shared {
     pub async fn emit(
         &self,
         job: &str,
-        kind: &str,
+        kind: EventKind,
         data: &serde_json::Value,
         fence: Option<i64>,
     ) -> Result<(), sqlx::Error> {
@@ -169,24 +167,19 @@ impl Shared {
         Ok(())
     }
 
-    /// Ends a job (`failed` or `cancelled`) with its final event; false if it
+    /// Ends a job (failed or cancelled) with its final event; false if it
     /// had already ended.
     pub async fn end_job(
         &self,
         job: &str,
-        status: &str,
+        ending: Ending,
         error: Option<&str>,
         data: &serde_json::Value,
         fence: Option<i64>,
     ) -> Result<bool, sqlx::Error> {
-        let kind = if status == "cancelled" {
-            "cancelled"
-        } else {
-            "failed"
-        };
         let stored = self
             .store
-            .end(job, status, error, (kind, &data.to_string()), fence)
+            .end(job, ending, error, &data.to_string(), fence)
             .await?;
         Ok(match stored {
             Some(event) => {

@@ -1,11 +1,16 @@
 //! The job store: every event, iteration, checkpoint and result file of a
-//! job, so nothing is lost on restart. Two backends behind one interface:
-//! SQLite (`sqlite.rs`, a file; the default) and PostgreSQL (`postgres.rs`,
-//! a server that several nodes can share), each migrated at start from its
-//! own `migrations/` folder. Most statements are written once for both
-//! (`statements.rs`); each backend adds how it opens, numbers a job's
-//! events and locks a claim. The service tests run against both.
+//! job, so nothing is lost on restart. Two backends behind one contract
+//! ([`JobStore`], `contract.rs`): SQLite (`sqlite.rs`, a file; the default)
+//! and PostgreSQL (`postgres.rs`, a server that several nodes can share),
+//! each migrated at start from its own `migrations/` folder. Most statements
+//! are written once for both (`statements.rs`, `transfer.rs`); each backend
+//! adds how it opens and its `Dialect`. Both pass the same conformance suite
+//! (`conformance.rs`), and the service tests run against both.
 
+#[cfg(test)]
+mod conformance;
+mod contract;
+mod export;
 mod postgres;
 mod sqlite;
 mod statements;
@@ -13,13 +18,15 @@ mod transfer;
 
 use std::fmt;
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Duration;
 
-use patchwork_core::fabrication::OutputFile;
 use serde::Serialize;
 use sqlx::FromRow;
 
-pub use transfer::JobExport;
+use super::job_state::{EventKind, JobStatus};
+
+pub use contract::JobStore;
 
 use postgres::PgStore;
 use sqlite::SqliteStore;
@@ -38,6 +45,14 @@ impl Database {
         } else {
             Database::Sqlite(PathBuf::from(text))
         }
+    }
+
+    /// Opens (creating a SQLite file where there is none) and migrates it.
+    pub async fn open(&self) -> Result<Store, sqlx::Error> {
+        Ok(match self {
+            Database::Sqlite(path) => Arc::new(SqliteStore::open(path).await?),
+            Database::Postgres(url) => Arc::new(PgStore::open(url).await?),
+        })
     }
 }
 
@@ -61,17 +76,15 @@ impl fmt::Display for Database {
     }
 }
 
-#[derive(Clone)]
-pub enum Store {
-    Sqlite(SqliteStore),
-    Postgres(PgStore),
-}
+/// The store the service uses, whichever its backend.
+pub type Store = Arc<dyn JobStore>;
 
 /// A job as stored (without its checkpoint and result).
 #[derive(Debug, Clone, FromRow)]
 pub struct JobRow {
     pub id: String,
-    pub status: String,
+    #[sqlx(try_from = "String")]
+    pub status: JobStatus,
     pub request: String,
     pub created_at: String,
     pub updated_at: String,
@@ -83,7 +96,8 @@ pub struct JobRow {
 #[derive(Debug, Clone, FromRow)]
 pub struct StoredEvent {
     pub seq: i64,
-    pub kind: String,
+    #[sqlx(try_from = "String")]
+    pub kind: EventKind,
     pub data: String,
 }
 
@@ -96,10 +110,6 @@ pub struct Iteration {
     pub sigma: f64,
     pub elapsed_s: f64,
 }
-
-/// Every job status, and those of jobs that have ended.
-pub const STATUSES: [&str; 5] = ["queued", "running", "succeeded", "failed", "cancelled"];
-pub const TERMINAL: [&str; 3] = ["succeeded", "failed", "cancelled"];
 
 const JOB_COLUMNS: &str = "id, status, request, created_at, updated_at, progress, error";
 
@@ -174,7 +184,9 @@ where
 /// What a failed renewal means, from the job's status and attempt now.
 fn renewal_of(now: Option<(String, i64)>, lease: &Lease) -> Renewal {
     match now {
-        Some((status, attempt)) if status == "cancelled" && attempt == lease.attempt => {
+        Some((status, attempt))
+            if status == JobStatus::Cancelled.as_str() && attempt == lease.attempt =>
+        {
             Renewal::Cancelled
         }
         _ => Renewal::Lost,
@@ -197,225 +209,6 @@ pub fn unavailable(error: &sqlx::Error) -> bool {
             .code()
             .is_some_and(|code| code.starts_with("08") || code.starts_with("57P")),
         _ => false,
-    }
-}
-
-/// The same call on whichever backend this store is.
-macro_rules! on_backend {
-    ($store:expr, $backend:ident => $call:expr) => {
-        match $store {
-            Store::Sqlite($backend) => $call,
-            Store::Postgres($backend) => $call,
-        }
-    };
-}
-
-impl Store {
-    pub async fn open(database: &Database) -> Result<Store, sqlx::Error> {
-        Ok(match database {
-            Database::Sqlite(path) => Store::Sqlite(SqliteStore::open(path).await?),
-            Database::Postgres(url) => Store::Postgres(PgStore::open(url).await?),
-        })
-    }
-
-    /// The PostgreSQL pool, for LISTEN (none on SQLite: one node).
-    pub fn postgres(&self) -> Option<&sqlx::PgPool> {
-        match self {
-            Store::Sqlite(_) => None,
-            Store::Postgres(s) => Some(s.pool()),
-        }
-    }
-
-    pub async fn ping(&self) -> bool {
-        on_backend!(self, s => s.ping().await)
-    }
-
-    /// Inserts a queued job with its first event, at once (a worker never
-    /// sees the job without it); `None` when the owner already used
-    /// `idempotency_key`.
-    pub async fn insert_job(
-        &self,
-        id: &str,
-        owner: &str,
-        request: &str,
-        idempotency_key: Option<&str>,
-        event: (&str, &str),
-    ) -> Result<Option<(JobRow, StoredEvent)>, sqlx::Error> {
-        on_backend!(self, s => s.insert_job(id, owner, request, idempotency_key, event).await)
-    }
-
-    pub async fn job_by_idempotency_key(
-        &self,
-        owner: &str,
-        key: &str,
-    ) -> Result<Option<JobRow>, sqlx::Error> {
-        on_backend!(self, s => s.job_by_idempotency_key(owner, key).await)
-    }
-
-    /// The job if it exists and belongs to `owner` (`None` sees every job).
-    pub async fn job(&self, id: &str, owner: Option<&str>) -> Result<Option<JobRow>, sqlx::Error> {
-        on_backend!(self, s => s.job(id, owner).await)
-    }
-
-    /// Newest first; `before` is the id of the last job of the previous page.
-    pub async fn list_jobs(
-        &self,
-        owner: Option<&str>,
-        status: Option<&str>,
-        before: Option<&str>,
-        limit: i64,
-    ) -> Result<Vec<JobRow>, sqlx::Error> {
-        on_backend!(self, s => s.list_jobs(owner, status, before, limit).await)
-    }
-
-    pub async fn count_by_status(&self) -> Result<Vec<(String, i64)>, sqlx::Error> {
-        on_backend!(self, s => s.count_by_status().await)
-    }
-
-    pub async fn queued_count(&self) -> Result<i64, sqlx::Error> {
-        on_backend!(self, s => s.queued_count().await)
-    }
-
-    /// Takes the oldest job that is queued, or running with a lease that ran
-    /// out (its node died), marks it running under a new lease of
-    /// `duration` held by `node`, and counts the attempt.
-    pub async fn claim_next(
-        &self,
-        node: &str,
-        duration: Duration,
-    ) -> Result<Option<Claim>, sqlx::Error> {
-        on_backend!(self, s => s.claim_next(node, duration).await)
-    }
-
-    /// Extends the lease by `duration` if the job is still this lease's.
-    pub async fn renew(&self, lease: &Lease, duration: Duration) -> Result<Renewal, sqlx::Error> {
-        on_backend!(self, s => s.renew(lease, duration).await)
-    }
-
-    /// At start-up of the one node of a SQLite file: jobs left running (the
-    /// process was killed) are queued again at once, to resume from their
-    /// checkpoints. PostgreSQL's nodes wait for such leases to run out
-    /// instead (another node may hold them). Returns how many.
-    pub async fn requeue_orphans(&self) -> Result<u64, sqlx::Error> {
-        match self {
-            Store::Sqlite(s) => s.requeue_running().await,
-            Store::Postgres(_) => Ok(0),
-        }
-    }
-
-    /// Puts a running job back in the queue (shutdown); its checkpoint stays.
-    pub async fn requeue(&self, lease: &Lease) -> Result<(), sqlx::Error> {
-        on_backend!(self, s => s.requeue(lease).await)
-    }
-
-    /// Ends a job that has not ended — `failed` or `cancelled` — and stores its
-    /// final event in the same transaction, so an ended job always has its
-    /// final event. `None` when the job had already ended, or `fence` (a
-    /// worker's attempt) is no longer the job's.
-    pub async fn end(
-        &self,
-        id: &str,
-        status: &str,
-        error: Option<&str>,
-        event: (&str, &str),
-        fence: Option<i64>,
-    ) -> Result<Option<StoredEvent>, sqlx::Error> {
-        on_backend!(self, s => s.end(id, status, error, event, fence).await)
-    }
-
-    /// Appends an event with the job's next id; with `fence` (a worker's
-    /// attempt) only while the job is running under that attempt.
-    pub async fn append_event(
-        &self,
-        id: &str,
-        kind: &str,
-        data: &str,
-        fence: Option<i64>,
-    ) -> Result<Option<StoredEvent>, sqlx::Error> {
-        on_backend!(self, s => s.append_event(id, kind, data, fence).await)
-    }
-
-    pub async fn events_after(
-        &self,
-        id: &str,
-        after: i64,
-    ) -> Result<Vec<StoredEvent>, sqlx::Error> {
-        on_backend!(self, s => s.events_after(id, after).await)
-    }
-
-    /// The latest progress, and the generation's row when it is one.
-    pub async fn record_progress(
-        &self,
-        lease: &Lease,
-        progress: &str,
-        iteration: Option<&Iteration>,
-    ) -> Result<(), sqlx::Error> {
-        on_backend!(self, s => s.record_progress(lease, progress, iteration).await)
-    }
-
-    /// Keeps `checkpoint`, taken after `evaluations`, unless the job holds a
-    /// later one: a checkpoint never goes back.
-    pub async fn save_checkpoint(
-        &self,
-        lease: &Lease,
-        checkpoint: &str,
-        evaluations: i64,
-    ) -> Result<(), sqlx::Error> {
-        on_backend!(self, s => s.save_checkpoint(lease, checkpoint, evaluations).await)
-    }
-
-    /// Stores the result, its files and the `done` event and marks the job
-    /// succeeded, all at once. `None` (nothing stored) when the job had
-    /// already ended (cancelled).
-    pub async fn finish(
-        &self,
-        lease: &Lease,
-        result: &str,
-        files: &[OutputFile],
-        done: &str,
-    ) -> Result<Option<StoredEvent>, sqlx::Error> {
-        on_backend!(self, s => s.finish(lease, result, files, done).await)
-    }
-
-    pub async fn iterations(
-        &self,
-        id: &str,
-        after: i64,
-        limit: i64,
-    ) -> Result<Vec<Iteration>, sqlx::Error> {
-        on_backend!(self, s => s.iterations(id, after, limit).await)
-    }
-
-    pub async fn result(&self, id: &str) -> Result<Option<String>, sqlx::Error> {
-        on_backend!(self, s => s.result(id).await)
-    }
-
-    pub async fn file(
-        &self,
-        id: &str,
-        name: &str,
-    ) -> Result<Option<(String, Vec<u8>)>, sqlx::Error> {
-        on_backend!(self, s => s.file(id, name).await)
-    }
-
-    pub async fn delete(&self, id: &str) -> Result<(), sqlx::Error> {
-        on_backend!(self, s => s.delete(id).await)
-    }
-
-    /// Every job's id, oldest first.
-    pub async fn job_ids(&self) -> Result<Vec<String>, sqlx::Error> {
-        on_backend!(self, s => s.job_ids().await)
-    }
-
-    /// The job with its events, iterations and files.
-    pub async fn export_job(&self, id: &str) -> Result<Option<JobExport>, sqlx::Error> {
-        on_backend!(self, s => s.export_job(id).await)
-    }
-
-    /// Stores an exported job (a running one as queued, to resume from its
-    /// checkpoint); `false`, writing nothing, when the job is already here.
-    pub async fn import_job(&self, job: &JobExport) -> Result<bool, sqlx::Error> {
-        on_backend!(self, s => s.import_job(job).await)
     }
 }
 

@@ -6,17 +6,15 @@
 
 use std::time::Duration;
 
-use super::statements::shared_statements;
-use super::transfer::{self, transfer_statements};
-use super::{
-    Claim, Iteration, JOB_COLUMNS, JobRow, Lease, Renewal, StoredEvent, after, claim_of, now,
-    renewal_of,
-};
-use patchwork_core::fabrication::OutputFile;
 use sqlx::postgres::{PgConnectOptions, PgConnection, PgPool, PgPoolOptions};
 use sqlx::{ConnectOptions, Connection};
 
-#[derive(Clone)]
+use super::contract::Dialect;
+use super::statements::job_store;
+use super::transfer::job_transfer;
+use super::{StoredEvent, now};
+use crate::service::job_state::EventKind;
+
 pub struct PgStore {
     pool: PgPool,
 }
@@ -39,45 +37,54 @@ impl PgStore {
         sqlx::migrate!("./migrations/postgres").run(&pool).await?;
         Ok(PgStore { pool })
     }
-
-    pub(super) fn pool(&self) -> &PgPool {
-        &self.pool
-    }
-
-    shared_statements!();
-    transfer_statements!();
 }
 
-/// Concurrent claims of several nodes pass over each other's rows.
-const CLAIM_LOCK: &str = "FOR UPDATE SKIP LOCKED";
+job_store!(PgStore {
+    /// Jobs left running by a node that died are claimed again once their
+    /// leases run out (another node may still hold them): none at once.
+    async fn requeue_orphans(&self) -> Result<u64, sqlx::Error> {
+        Ok(0)
+    }
 
-/// The job's event counter continues after its last imported event.
-const IMPORT_SEQ: &str = "UPDATE jobs SET last_seq = (SELECT COALESCE(MAX(seq), 0) FROM events
-                          WHERE job_id = $1) WHERE id = $1";
+    fn postgres(&self) -> Option<&PgPool> {
+        Some(&self.pool)
+    }
+});
 
-/// Inserts an event with the job's next id, taken from the counter on the
-/// job's row (whose row lock orders concurrent writers) in the caller's
-/// transaction; with `fence`, only while the job runs under that attempt.
-async fn insert_event(
-    connection: &mut PgConnection,
-    id: &str,
-    (kind, data): (&str, &str),
-    fence: Option<i64>,
-) -> Result<Option<StoredEvent>, sqlx::Error> {
-    sqlx::query_as(
-        "WITH next AS (
+job_transfer!(PgStore);
+
+impl Dialect for PgStore {
+    type Connection = PgConnection;
+
+    /// Concurrent claims of several nodes pass over each other's rows.
+    const CLAIM_LOCK: &'static str = "FOR UPDATE SKIP LOCKED";
+
+    /// The job's event counter continues after its last imported event.
+    const IMPORT_SEQ: &'static str = "UPDATE jobs SET last_seq = (SELECT COALESCE(MAX(seq), 0)
+                                      FROM events WHERE job_id = $1) WHERE id = $1";
+
+    /// The job's next id from the counter on its row (whose row lock orders
+    /// concurrent writers).
+    fn insert_event<'c>(
+        connection: &'c mut PgConnection,
+        id: &'c str,
+        (kind, data): (EventKind, &'c str),
+        fence: Option<i64>,
+    ) -> impl Future<Output = Result<Option<StoredEvent>, sqlx::Error>> + Send + 'c {
+        sqlx::query_as(
+            "WITH next AS (
              UPDATE jobs SET last_seq = last_seq + 1
              WHERE id = $1 AND ($5::bigint IS NULL OR (attempt = $5 AND status = 'running'))
              RETURNING last_seq)
          INSERT INTO events (job_id, seq, kind, data, created_at)
          SELECT $1, last_seq, $2, $3, $4 FROM next
          RETURNING seq, kind, data",
-    )
-    .bind(id)
-    .bind(kind)
-    .bind(data)
-    .bind(now())
-    .bind(fence)
-    .fetch_optional(connection)
-    .await
+        )
+        .bind(id)
+        .bind(kind.as_str())
+        .bind(data)
+        .bind(now())
+        .bind(fence)
+        .fetch_optional(connection)
+    }
 }

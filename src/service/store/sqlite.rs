@@ -4,18 +4,15 @@
 use std::path::Path;
 use std::time::Duration;
 
-use patchwork_core::fabrication::OutputFile;
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
 use sqlx::{SqliteConnection, SqlitePool};
 
-use super::statements::shared_statements;
-use super::transfer::{self, transfer_statements};
-use super::{
-    Claim, Iteration, JOB_COLUMNS, JobRow, Lease, Renewal, StoredEvent, after, claim_of, now,
-    renewal_of,
-};
+use super::contract::Dialect;
+use super::statements::job_store;
+use super::transfer::job_transfer;
+use super::{StoredEvent, now};
+use crate::service::job_state::EventKind;
 
-#[derive(Clone)]
 pub struct SqliteStore {
     pool: SqlitePool,
 }
@@ -36,13 +33,12 @@ impl SqliteStore {
         sqlx::migrate!("./migrations/sqlite").run(&pool).await?;
         Ok(SqliteStore { pool })
     }
+}
 
-    shared_statements!();
-    transfer_statements!();
-
-    /// After a crash: jobs that were running are queued again (they resume
-    /// from their checkpoints). Returns how many.
-    pub(super) async fn requeue_running(&self) -> Result<u64, sqlx::Error> {
+job_store!(SqliteStore {
+    /// The one node of a SQLite file starts after a crash: jobs that were
+    /// running are queued again (they resume from their checkpoints).
+    async fn requeue_orphans(&self) -> Result<u64, sqlx::Error> {
         Ok(sqlx::query(
             "UPDATE jobs SET status = 'queued', updated_at = $1 WHERE status = 'running'",
         )
@@ -51,36 +47,40 @@ impl SqliteStore {
         .await?
         .rows_affected())
     }
-}
+});
 
-/// One connection writes at a time: a claim's subquery needs no row lock.
-const CLAIM_LOCK: &str = "";
+job_transfer!(SqliteStore);
 
-/// SQLite numbers a job's events from the events themselves.
-const IMPORT_SEQ: &str = "";
+impl Dialect for SqliteStore {
+    type Connection = SqliteConnection;
 
-/// Inserts an event with the job's next id (one statement, so two writers
-/// never take the same id); with `fence`, only while the job runs under
-/// that attempt.
-async fn insert_event(
-    connection: &mut SqliteConnection,
-    id: &str,
-    (kind, data): (&str, &str),
-    fence: Option<i64>,
-) -> Result<Option<StoredEvent>, sqlx::Error> {
-    sqlx::query_as(
-        "INSERT INTO events (job_id, seq, kind, data, created_at)
-         SELECT ?1, next, ?2, ?3, ?4
-         FROM (SELECT COALESCE(MAX(seq), 0) + 1 AS next FROM events WHERE job_id = ?1)
-         WHERE ?5 IS NULL
-            OR EXISTS (SELECT 1 FROM jobs WHERE id = ?1 AND attempt = ?5 AND status = 'running')
-         RETURNING seq, kind, data",
-    )
-    .bind(id)
-    .bind(kind)
-    .bind(data)
-    .bind(now())
-    .bind(fence)
-    .fetch_optional(connection)
-    .await
+    /// One connection writes at a time: a claim's subquery needs no row lock.
+    const CLAIM_LOCK: &'static str = "";
+
+    /// SQLite numbers a job's events from the events themselves.
+    const IMPORT_SEQ: &'static str = "";
+
+    /// The job's next id from its events, in one statement, so two writers
+    /// never take the same id.
+    fn insert_event<'c>(
+        connection: &'c mut SqliteConnection,
+        id: &'c str,
+        (kind, data): (EventKind, &'c str),
+        fence: Option<i64>,
+    ) -> impl Future<Output = Result<Option<StoredEvent>, sqlx::Error>> + Send + 'c {
+        sqlx::query_as(
+            "INSERT INTO events (job_id, seq, kind, data, created_at)
+             SELECT ?1, next, ?2, ?3, ?4
+             FROM (SELECT COALESCE(MAX(seq), 0) + 1 AS next FROM events WHERE job_id = ?1)
+             WHERE ?5 IS NULL
+                OR EXISTS (SELECT 1 FROM jobs WHERE id = ?1 AND attempt = ?5 AND status = 'running')
+             RETURNING seq, kind, data",
+        )
+        .bind(id)
+        .bind(kind.as_str())
+        .bind(data)
+        .bind(now())
+        .bind(fence)
+        .fetch_optional(connection)
+    }
 }

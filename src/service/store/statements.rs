@@ -1,27 +1,45 @@
-//! The statements both backends run, written once. Each is SQL that SQLite
+//! The statements every backend runs, written once. Each is SQL that SQLite
 //! and PostgreSQL read alike: numbered parameters (`$1`, reused where a value
 //! appears twice), `CAST(… AS TEXT)` where PostgreSQL must know a parameter's
-//! type, and `ON CONFLICT … DO UPDATE` for upserts. The macro expands to the
-//! same methods in each backend's `impl`, over its own pool; a backend adds
-//! what only it can say: how it opens, how it numbers an event
-//! (`insert_event`), and how a claim locks its row (`CLAIM_LOCK`).
+//! type, and `ON CONFLICT … DO UPDATE` for upserts. What only a backend can
+//! say (how it numbers an event, how a claim locks its row) it says in its
+//! [`Dialect`](super::contract::Dialect).
 
-/// The methods shared by `SqliteStore` and `PgStore` (see the module doc).
-/// The invoking module provides `insert_event`, `CLAIM_LOCK` and the
-/// store's types (`JobRow`, `Lease`, …).
-macro_rules! shared_statements {
-    () => {
-        pub(super) async fn ping(&self) -> bool {
+/// `job_store!(Backend { own items })`: `impl JobStore for Backend` with the
+/// shared statements, over the backend's `pool`, and the backend's own items
+/// (those [`JobStore`](super::contract::JobStore) methods that differ between
+/// backends: `requeue_orphans`, and `postgres` where it has a pool to LISTEN
+/// on). The backend must implement `Dialect`.
+macro_rules! job_store {
+    ($store:ty { $($own:tt)* }) => {
+        // A block, so that the names the statements use are imported here
+        // and not asked of the invoking module.
+        const _: () = {
+        use std::time::Duration;
+
+        use patchwork_core::fabrication::OutputFile;
+        use $crate::service::job_state::{Ending, EventKind, JobStatus};
+        use $crate::service::store::contract::{Dialect, JobStore};
+        use $crate::service::store::{
+            Claim, Iteration, JOB_COLUMNS, JobRow, Lease, Renewal, StoredEvent, after, claim_of,
+            now, renewal_of,
+        };
+
+        #[async_trait::async_trait]
+        impl JobStore for $store {
+        $($own)*
+
+        async fn ping(&self) -> bool {
             sqlx::query("SELECT 1").execute(&self.pool).await.is_ok()
         }
 
-        pub(super) async fn insert_job(
+        async fn insert_job(
             &self,
             id: &str,
             owner: &str,
             request: &str,
             idempotency_key: Option<&str>,
-            event: (&str, &str),
+            event: (EventKind, &str),
         ) -> Result<Option<(JobRow, StoredEvent)>, sqlx::Error> {
             let sql = format!(
                 "INSERT INTO jobs (id, owner, status, request, idempotency_key, created_at, updated_at)
@@ -38,12 +56,12 @@ macro_rules! shared_statements {
                 .fetch_optional(&mut *tx)
                 .await?;
             let Some(row) = row else { return Ok(None) };
-            let stored = insert_event(&mut tx, id, event, None).await?;
+            let stored = <$store as Dialect>::insert_event(&mut *tx, id, event, None).await?;
             tx.commit().await?;
             Ok(stored.map(|event| (row, event)))
         }
 
-        pub(super) async fn job_by_idempotency_key(
+        async fn job_by_idempotency_key(
             &self,
             owner: &str,
             key: &str,
@@ -57,7 +75,7 @@ macro_rules! shared_statements {
                 .await
         }
 
-        pub(super) async fn job(
+        async fn job(
             &self,
             id: &str,
             owner: Option<&str>,
@@ -73,10 +91,10 @@ macro_rules! shared_statements {
                 .await
         }
 
-        pub(super) async fn list_jobs(
+        async fn list_jobs(
             &self,
             owner: Option<&str>,
-            status: Option<&str>,
+            status: Option<JobStatus>,
             before: Option<&str>,
             limit: i64,
         ) -> Result<Vec<JobRow>, sqlx::Error> {
@@ -89,30 +107,39 @@ macro_rules! shared_statements {
             );
             sqlx::query_as(&sql)
                 .bind(owner)
-                .bind(status)
+                .bind(status.map(JobStatus::as_str))
                 .bind(before)
                 .bind(limit)
                 .fetch_all(&self.pool)
                 .await
         }
 
-        pub(super) async fn count_by_status(&self) -> Result<Vec<(String, i64)>, sqlx::Error> {
-            sqlx::query_as("SELECT status, COUNT(*) FROM jobs GROUP BY status")
-                .fetch_all(&self.pool)
-                .await
+        async fn count_by_status(
+            &self,
+        ) -> Result<Vec<(JobStatus, i64)>, sqlx::Error> {
+            let counts: Vec<(String, i64)> =
+                sqlx::query_as("SELECT status, COUNT(*) FROM jobs GROUP BY status")
+                    .fetch_all(&self.pool)
+                    .await?;
+            // The schema's CHECK admits only JobStatus's names.
+            Ok(counts
+                .into_iter()
+                .filter_map(|(status, n)| Some((status.parse().ok()?, n)))
+                .collect())
         }
 
-        pub(super) async fn queued_count(&self) -> Result<i64, sqlx::Error> {
+        async fn queued_count(&self) -> Result<i64, sqlx::Error> {
             sqlx::query_scalar("SELECT COUNT(*) FROM jobs WHERE status = 'queued'")
                 .fetch_one(&self.pool)
                 .await
         }
 
-        pub(super) async fn claim_next(
+        async fn claim_next(
             &self,
             node: &str,
             duration: Duration,
         ) -> Result<Option<Claim>, sqlx::Error> {
+            let lock = <$store as Dialect>::CLAIM_LOCK;
             let sql = format!(
                 "UPDATE jobs SET status = 'running', attempt = attempt + 1,
                         taken_over = (status = 'running'), lease_until = $2,
@@ -121,7 +148,7 @@ macro_rules! shared_statements {
                              WHERE status = 'queued'
                                 OR (status = 'running'
                                     AND (lease_until IS NULL OR lease_until < $1))
-                             ORDER BY id LIMIT 1 {CLAIM_LOCK})
+                             ORDER BY id LIMIT 1 {lock})
                  RETURNING {JOB_COLUMNS}, checkpoint, attempt, taken_over"
             );
             let row = sqlx::query(&sql)
@@ -133,7 +160,7 @@ macro_rules! shared_statements {
             row.map(|row| claim_of(&row)).transpose()
         }
 
-        pub(super) async fn renew(
+        async fn renew(
             &self,
             lease: &Lease,
             duration: Duration,
@@ -158,7 +185,7 @@ macro_rules! shared_statements {
             Ok(renewal_of(now, lease))
         }
 
-        pub(super) async fn requeue(&self, lease: &Lease) -> Result<(), sqlx::Error> {
+        async fn requeue(&self, lease: &Lease) -> Result<(), sqlx::Error> {
             sqlx::query(
                 "UPDATE jobs SET status = 'queued', lease_until = NULL, updated_at = $1
                  WHERE id = $2 AND attempt = $3 AND status = 'running'",
@@ -171,12 +198,12 @@ macro_rules! shared_statements {
             .map(|_| ())
         }
 
-        pub(super) async fn end(
+        async fn end(
             &self,
             id: &str,
-            status: &str,
+            ending: Ending,
             error: Option<&str>,
-            event: (&str, &str),
+            data: &str,
             fence: Option<i64>,
         ) -> Result<Option<StoredEvent>, sqlx::Error> {
             let mut tx = self.pool.begin().await?;
@@ -185,7 +212,7 @@ macro_rules! shared_statements {
                  WHERE id = $4 AND status NOT IN ('succeeded', 'failed', 'cancelled')
                    AND (CAST($5 AS BIGINT) IS NULL OR attempt = $5)",
             )
-            .bind(status)
+            .bind(ending.status().as_str())
             .bind(error)
             .bind(now())
             .bind(id)
@@ -195,25 +222,25 @@ macro_rules! shared_statements {
             if updated.rows_affected() != 1 {
                 return Ok(None);
             }
-            let stored = insert_event(&mut tx, id, event, None).await?;
+            let stored = <$store as Dialect>::insert_event(&mut *tx, id, (ending.event(), data), None).await?;
             tx.commit().await?;
             Ok(stored)
         }
 
-        pub(super) async fn append_event(
+        async fn append_event(
             &self,
             id: &str,
-            kind: &str,
+            kind: EventKind,
             data: &str,
             fence: Option<i64>,
         ) -> Result<Option<StoredEvent>, sqlx::Error> {
             let mut tx = self.pool.begin().await?;
-            let stored = insert_event(&mut tx, id, (kind, data), fence).await?;
+            let stored = <$store as Dialect>::insert_event(&mut *tx, id, (kind, data), fence).await?;
             tx.commit().await?;
             Ok(stored)
         }
 
-        pub(super) async fn events_after(
+        async fn events_after(
             &self,
             id: &str,
             after: i64,
@@ -227,7 +254,7 @@ macro_rules! shared_statements {
             .await
         }
 
-        pub(super) async fn record_progress(
+        async fn record_progress(
             &self,
             lease: &Lease,
             progress: &str,
@@ -265,7 +292,7 @@ macro_rules! shared_statements {
             tx.commit().await
         }
 
-        pub(super) async fn save_checkpoint(
+        async fn save_checkpoint(
             &self,
             lease: &Lease,
             checkpoint: &str,
@@ -285,7 +312,7 @@ macro_rules! shared_statements {
             .map(|_| ())
         }
 
-        pub(super) async fn finish(
+        async fn finish(
             &self,
             lease: &Lease,
             result: &str,
@@ -321,12 +348,12 @@ macro_rules! shared_statements {
                 .execute(&mut *tx)
                 .await?;
             }
-            let stored = insert_event(&mut tx, id, ("done", done), None).await?;
+            let stored = <$store as Dialect>::insert_event(&mut *tx, id, (EventKind::Done, done), None).await?;
             tx.commit().await?;
             Ok(stored)
         }
 
-        pub(super) async fn iterations(
+        async fn iterations(
             &self,
             id: &str,
             after: i64,
@@ -343,7 +370,7 @@ macro_rules! shared_statements {
             .await
         }
 
-        pub(super) async fn result(&self, id: &str) -> Result<Option<String>, sqlx::Error> {
+        async fn result(&self, id: &str) -> Result<Option<String>, sqlx::Error> {
             sqlx::query_scalar("SELECT result FROM jobs WHERE id = $1")
                 .bind(id)
                 .fetch_optional(&self.pool)
@@ -351,7 +378,7 @@ macro_rules! shared_statements {
                 .map(Option::flatten)
         }
 
-        pub(super) async fn file(
+        async fn file(
             &self,
             id: &str,
             name: &str,
@@ -363,14 +390,16 @@ macro_rules! shared_statements {
                 .await
         }
 
-        pub(super) async fn delete(&self, id: &str) -> Result<(), sqlx::Error> {
+        async fn delete(&self, id: &str) -> Result<(), sqlx::Error> {
             sqlx::query("DELETE FROM jobs WHERE id = $1")
                 .bind(id)
                 .execute(&self.pool)
                 .await
                 .map(|_| ())
         }
+        }
+        };
     };
 }
 
-pub(super) use shared_statements;
+pub(super) use job_store;

@@ -1,69 +1,35 @@
 //! Whole jobs out of one store and into another (`patchwork copy-jobs`):
 //! the job's row, every event, iteration and result file, in one
 //! transaction per job on the receiving side. The statements read alike on
-//! both backends, like `statements.rs`; the receiving backend adds how it
-//! restores a job's event counter (`IMPORT_SEQ`).
+//! both backends, like `statements.rs`; the receiving backend's
+//! [`Dialect`](super::contract::Dialect) says how it restores a job's event
+//! counter (`IMPORT_SEQ`).
 
-use sqlx::FromRow;
+/// `job_transfer!(Backend)`: `impl JobTransfer for Backend` over the
+/// backend's `pool` (see the module doc). The backend must implement
+/// `Dialect`.
+macro_rules! job_transfer {
+    ($store:ty) => {
+        // A block, so that the names the statements use are imported here.
+        const _: () = {
+        use $crate::service::job_state::JobStatus;
+        use $crate::service::store::contract::{Dialect, JobStore, JobTransfer};
+        use $crate::service::store::export::{ExportRow, JobExport};
 
-/// A job with everything it produced, as stored.
-#[derive(Debug, Clone)]
-pub struct JobExport {
-    pub row: ExportRow,
-    pub events: Vec<ExportEvent>,
-    pub iterations: Vec<super::Iteration>,
-    pub files: Vec<ExportFile>,
-}
-
-/// The job's own columns that outlive a lease.
-#[derive(Debug, Clone, FromRow)]
-pub struct ExportRow {
-    pub id: String,
-    pub owner: String,
-    pub status: String,
-    pub request: String,
-    pub idempotency_key: Option<String>,
-    pub created_at: String,
-    pub updated_at: String,
-    pub progress: Option<String>,
-    pub error: Option<String>,
-    pub checkpoint: Option<String>,
-    pub result: Option<String>,
-    pub attempt: i64,
-    pub checkpoint_evaluations: i64,
-}
-
-#[derive(Debug, Clone, FromRow)]
-pub struct ExportEvent {
-    pub seq: i64,
-    pub kind: String,
-    pub data: String,
-    pub created_at: String,
-}
-
-#[derive(Debug, Clone, FromRow)]
-pub struct ExportFile {
-    pub name: String,
-    pub content_type: String,
-    pub body: Vec<u8>,
-}
-
-/// The export and import methods of both backends (see the module doc).
-/// The invoking module provides `IMPORT_SEQ`.
-macro_rules! transfer_statements {
-    () => {
+        #[async_trait::async_trait]
+        impl JobTransfer for $store {
         /// Every job's id, oldest first.
-        pub(super) async fn job_ids(&self) -> Result<Vec<String>, sqlx::Error> {
+        async fn job_ids(&self) -> Result<Vec<String>, sqlx::Error> {
             sqlx::query_scalar("SELECT id FROM jobs ORDER BY id")
                 .fetch_all(&self.pool)
                 .await
         }
 
-        pub(super) async fn export_job(
+        async fn export_job(
             &self,
             id: &str,
-        ) -> Result<Option<transfer::JobExport>, sqlx::Error> {
-            let row: Option<transfer::ExportRow> = sqlx::query_as(
+        ) -> Result<Option<JobExport>, sqlx::Error> {
+            let row: Option<ExportRow> = sqlx::query_as(
                 "SELECT id, owner, status, request, idempotency_key, created_at, updated_at,
                         progress, error, checkpoint, result, attempt, checkpoint_evaluations
                  FROM jobs WHERE id = $1",
@@ -85,7 +51,7 @@ macro_rules! transfer_statements {
             .bind(id)
             .fetch_all(&self.pool)
             .await?;
-            Ok(Some(transfer::JobExport {
+            Ok(Some(JobExport {
                 row,
                 events,
                 iterations,
@@ -97,17 +63,34 @@ macro_rules! transfer_statements {
         /// queued (to resume from its checkpoint here) and holds no lease.
         /// `false` when this store already has the job (or its owner's
         /// idempotency key): nothing is written then.
-        pub(super) async fn import_job(
-            &self,
-            job: &transfer::JobExport,
-        ) -> Result<bool, sqlx::Error> {
-            let r = &job.row;
-            let status = if r.status == "running" {
-                "queued"
-            } else {
-                r.status.as_str()
-            };
+        async fn import_job(&self, job: &JobExport) -> Result<bool, sqlx::Error> {
             let mut tx = self.pool.begin().await?;
+            if !insert_row(&mut *tx, &job.row).await? {
+                return Ok(false);
+            }
+            insert_products(&mut *tx, job).await?;
+            let import_seq = <$store as Dialect>::IMPORT_SEQ;
+            if !import_seq.is_empty() {
+                sqlx::query(import_seq)
+                    .bind(&job.row.id)
+                    .execute(&mut *tx)
+                    .await?;
+            }
+            tx.commit().await?;
+            Ok(true)
+        }
+        }
+
+        /// The job's row (running → queued, without a lease); false when the
+        /// store already has it.
+        async fn insert_row(
+            connection: &mut <$store as Dialect>::Connection,
+            r: &ExportRow,
+        ) -> Result<bool, sqlx::Error> {
+            let status = match r.status {
+                JobStatus::Running => JobStatus::Queued,
+                other => other,
+            };
             let inserted = sqlx::query(
                 "INSERT INTO jobs (id, owner, status, request, idempotency_key, created_at,
                                    updated_at, progress, error, checkpoint, result, attempt,
@@ -117,7 +100,7 @@ macro_rules! transfer_statements {
             )
             .bind(&r.id)
             .bind(&r.owner)
-            .bind(status)
+            .bind(status.as_str())
             .bind(&r.request)
             .bind(&r.idempotency_key)
             .bind(&r.created_at)
@@ -128,22 +111,28 @@ macro_rules! transfer_statements {
             .bind(&r.result)
             .bind(r.attempt)
             .bind(r.checkpoint_evaluations)
-            .execute(&mut *tx)
+            .execute(&mut *connection)
             .await?;
-            if inserted.rows_affected() != 1 {
-                return Ok(false);
-            }
+            Ok(inserted.rows_affected() == 1)
+        }
+
+        /// The job's events, iterations and files, as they were.
+        async fn insert_products(
+            connection: &mut <$store as Dialect>::Connection,
+            job: &JobExport,
+        ) -> Result<(), sqlx::Error> {
+            let id = &job.row.id;
             for e in &job.events {
                 sqlx::query(
                     "INSERT INTO events (job_id, seq, kind, data, created_at)
                      VALUES ($1, $2, $3, $4, $5)",
                 )
-                .bind(&r.id)
+                .bind(id)
                 .bind(e.seq)
-                .bind(&e.kind)
+                .bind(e.kind.as_str())
                 .bind(&e.data)
                 .bind(&e.created_at)
-                .execute(&mut *tx)
+                .execute(&mut *connection)
                 .await?;
             }
             for it in &job.iterations {
@@ -152,36 +141,30 @@ macro_rules! transfer_statements {
                      (job_id, evaluations, generation, best_objective, sigma, elapsed_s)
                      VALUES ($1, $2, $3, $4, $5, $6)",
                 )
-                .bind(&r.id)
+                .bind(id)
                 .bind(it.evaluations)
                 .bind(it.generation)
                 .bind(it.best_objective)
                 .bind(it.sigma)
                 .bind(it.elapsed_s)
-                .execute(&mut *tx)
+                .execute(&mut *connection)
                 .await?;
             }
             for f in &job.files {
                 sqlx::query(
                     "INSERT INTO files (job_id, name, content_type, body) VALUES ($1, $2, $3, $4)",
                 )
-                .bind(&r.id)
+                .bind(id)
                 .bind(&f.name)
                 .bind(&f.content_type)
                 .bind(&f.body)
-                .execute(&mut *tx)
+                .execute(&mut *connection)
                 .await?;
             }
-            if !IMPORT_SEQ.is_empty() {
-                sqlx::query(IMPORT_SEQ)
-                    .bind(&r.id)
-                    .execute(&mut *tx)
-                    .await?;
-            }
-            tx.commit().await?;
-            Ok(true)
+            Ok(())
         }
+        };
     };
 }
 
-pub(super) use transfer_statements;
+pub(super) use job_transfer;

@@ -12,6 +12,7 @@ use patchwork_core::fabrication::design_files;
 use patchwork_core::inverse::{DesignOutcome, DesignReport, DesignRunError};
 use serde_json::json;
 
+use crate::service::job_state::Ending;
 use crate::service::state::{AppState, StopReason};
 use crate::service::store::{self, Lease};
 
@@ -97,7 +98,7 @@ pub(super) async fn fail(state: &AppState, lease: &Lease, error: &str) {
     let event = json!({ "error": error });
     let fence = Some(lease.attempt);
     let ended = until_stored(state, "marking failed", || {
-        state.end_job(&lease.id, "failed", Some(error), &event, fence)
+        state.end_job(&lease.id, Ending::Failed, Some(error), &event, fence)
     });
     if let Err(e) = ended.await {
         tracing::error!("marking failed: {e}");

@@ -11,6 +11,7 @@ use patchwork_core::inverse::{DesignCheckpoint, DesignProgress, Observer, Stage}
 use serde_json::json;
 use tokio::sync::mpsc;
 
+use crate::service::job_state::EventKind;
 use crate::service::state::AppState;
 use crate::service::store::{Iteration, Lease};
 
@@ -86,12 +87,12 @@ async fn record(
                 .save_checkpoint(lease, &text, evaluations as i64)
                 .await
         }
-        Message::Reach(report) => state.emit(id, "reach", &report, fence).await,
+        Message::Reach(report) => state.emit(id, EventKind::Reach, &report, fence).await,
         Message::Progress(p) => {
             if *last_stage != Some(p.stage) {
                 *last_stage = Some(p.stage);
                 state
-                    .emit(id, "stage", &json!({"stage": p.stage}), fence)
+                    .emit(id, EventKind::Stage, &json!({"stage": p.stage}), fence)
                     .await?;
             }
             // A NaN objective (before the seed is evaluated) serialises as null.
@@ -113,7 +114,9 @@ async fn record(
                 .record_progress(lease, &progress.to_string(), iteration.as_ref())
                 .await?;
             if p.stage == Stage::Search {
-                state.emit(id, "progress", &progress, fence).await?;
+                state
+                    .emit(id, EventKind::Progress, &progress, fence)
+                    .await?;
             }
             Ok(())
         }
