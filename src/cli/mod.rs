@@ -1,12 +1,6 @@
 //! Command-line contract. Scripts depend on these names: change with care.
 
-mod bench_cmd;
-mod bench_forward;
-mod bench_replot;
-mod bench_report;
-mod bench_suite;
-mod bench_text;
-mod bench_users;
+mod bench;
 mod curve_cmd;
 pub(crate) mod design_cmd;
 mod design_summary;
@@ -55,7 +49,7 @@ enum Command {
     Design(design_cmd::DesignArgs),
     /// Run time against error: a fixed suite of curves × fidelity settings.
     #[command(after_help = "Example:\n  patchwork bench --quick --out bench-out")]
-    Bench(bench_cmd::BenchArgs),
+    Bench(bench::BenchArgs),
     /// HTTP design service: REST API, SQLite job store, worker pool.
     #[command(after_help = "Example:\n  patchwork serve --addr 0.0.0.0:8080 --db patchwork.db")]
     Serve(crate::service::ServeArgs),
@@ -80,7 +74,7 @@ pub fn run() -> Result<()> {
         Command::Design(args) => design_cmd::run(args),
         Command::Serve(args) => crate::service::run(args),
         Command::CopyJobs(args) => crate::service::copy_jobs::run(args),
-        Command::Bench(args) => bench_cmd::run(args),
+        Command::Bench(args) => bench::run(args),
     }
 }
 

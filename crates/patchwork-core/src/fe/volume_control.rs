@@ -103,37 +103,13 @@ impl VolumeSolver {
                 });
             }
             let positions = model.positions(&u);
-            let full: Vec<f64> = self.source.iter().map(|&k| values[k]).collect();
-            let matrix =
-                SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &full)
-                    .map_err(|e| SolveError::Setup(format!("{e:?}")))?;
-            let lu = Lu::try_new_with_symbolic(self.lu.clone(), matrix.as_ref()).map_err(|_| {
-                SolveError::Factorisation {
-                    shift: 0.0,
-                    residual: merit(current),
-                }
-            })?;
-            let dv = model.volume_gradient(&positions);
-            let mut rhs =
-                faer::Mat::<f64>::from_fn(
-                    self.n,
-                    2,
-                    |i, j| if j == 0 { -gradient[i] } else { dv[i] },
-                );
-            lu.solve_in_place(rhs.as_mut());
-            let volume_error = model.volume(&positions) - target;
-            let dv_a: f64 = (0..self.n).map(|i| dv[i] * rhs[(i, 0)]).sum();
-            let dv_b: f64 = (0..self.n).map(|i| dv[i] * rhs[(i, 1)]).sum();
-            let dp = (-volume_error - dv_a) / dv_b;
-            if !dp.is_finite() {
-                return Err(SolveError::Factorisation {
-                    shift: 0.0,
-                    residual: merit(current),
-                });
-            }
-            let step: Vec<f64> = (0..self.n)
-                .map(|i| rhs[(i, 0)] + dp * rhs[(i, 1)])
-                .collect();
+            let (step, dp) = self.bordered_step(
+                model,
+                &positions,
+                (&gradient, &values),
+                target,
+                merit(current),
+            )?;
             let mut t = 1.0;
             loop {
                 let trial: Vec<f64> = u.iter().zip(&step).map(|(a, s)| a + t * s).collect();
@@ -159,5 +135,43 @@ impl VolumeSolver {
             iterations: options.max_iterations,
             residual: merit(current),
         })
+    }
+    /// The Newton step (Δu, ΔP) of the bordered system at `positions`, from
+    /// the residual `gradient` and the tangent's lower-pattern `values`: K is
+    /// factored by sparse LU and the border eliminated (see the module doc).
+    /// A factorisation error (reporting `residual`) when K is singular or
+    /// the border's pivot ∇V·b vanishes.
+    fn bordered_step(
+        &self,
+        model: &Model,
+        positions: &[Point],
+        (gradient, values): (&[f64], &[f64]),
+        target: f64,
+        residual: f64,
+    ) -> Result<(Vec<f64>, f64), SolveError> {
+        let singular = || SolveError::Factorisation {
+            shift: 0.0,
+            residual,
+        };
+        let full: Vec<f64> = self.source.iter().map(|&k| values[k]).collect();
+        let matrix = SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &full)
+            .map_err(|e| SolveError::Setup(format!("{e:?}")))?;
+        let lu =
+            Lu::try_new_with_symbolic(self.lu.clone(), matrix.as_ref()).map_err(|_| singular())?;
+        let dv = model.volume_gradient(positions);
+        let mut rhs =
+            faer::Mat::<f64>::from_fn(self.n, 2, |i, j| if j == 0 { -gradient[i] } else { dv[i] });
+        lu.solve_in_place(rhs.as_mut());
+        let volume_error = model.volume(positions) - target;
+        let dv_a: f64 = (0..self.n).map(|i| dv[i] * rhs[(i, 0)]).sum();
+        let dv_b: f64 = (0..self.n).map(|i| dv[i] * rhs[(i, 1)]).sum();
+        let dp = (-volume_error - dv_a) / dv_b;
+        if !dp.is_finite() {
+            return Err(singular());
+        }
+        let step: Vec<f64> = (0..self.n)
+            .map(|i| rhs[(i, 0)] + dp * rhs[(i, 1)])
+            .collect();
+        Ok((step, dp))
     }
 }

@@ -1,6 +1,7 @@
-//! The bench's target curves and settings: the quick suite, the reference
-//! suite (time against error per preset) and the any-curve suite (curves
-//! unlike the references, each under the presets as users get them).
+//! The bench's suites: the quick suite, the reference suite (time against
+//! error per preset), the any-curve suite (curves unlike the references,
+//! each under the presets as users get them), the round trips, and the
+//! users' suite (`users.rs`).
 
 use anyhow::Result;
 use patchwork_core::curve::{Curve, Point, Preset};
@@ -9,115 +10,7 @@ use patchwork_core::fe::simulate;
 use patchwork_core::inverse::{Fidelity, Plan, TuningOverrides, UserSettings};
 use serde_json::json;
 
-/// Which suite a bench runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Suite {
-    /// Two short curves, small budgets: minutes.
-    Quick,
-    /// The three reference curves, a helix, a trefoil knot and a noisy arc
-    /// under every preset and its variants: hours.
-    Reference,
-    /// Curves unlike the references (long bends, spirals, an S with and
-    /// without a kink, grasps, a hook, a knot, hand-drawn input) and the
-    /// references, under the three presets as users get them and draft's variants.
-    Curves,
-    /// Round trips with an unknown layout: ten seeded random feasible
-    /// designs of 4–12 patches (lone patches and graded trains), simulated,
-    /// then designed from the centreline alone under draft and standard.
-    RoundTrips,
-    /// Curves as users send them: gentle arcs, sparse CAD exports, noisy
-    /// strokes with their clean strokes, and five kinds the other suites
-    /// lack, under draft.
-    Users,
-    /// The benchmark report: the forward solve per mesh, the curve suite
-    /// under draft and standard, the round trips and the users' suite under
-    /// draft.
-    Report,
-}
-
-/// The suite's target curves, by name.
-pub type Targets = Vec<Target>;
-
-/// One curve of a suite; a drawn one knows the clean curve it was drawn
-/// from, to judge the design against.
-pub struct Target {
-    pub name: String,
-    pub curve: Curve,
-    pub clean: Option<Curve>,
-}
-
-impl From<(String, Curve)> for Target {
-    fn from((name, curve): (String, Curve)) -> Target {
-        Target {
-            name,
-            curve,
-            clean: None,
-        }
-    }
-}
-
-fn targets(curves: Vec<(String, Curve)>) -> Targets {
-    curves.into_iter().map(Target::from).collect()
-}
-
-/// One fidelity setting of the suite.
-pub struct Setting {
-    pub name: &'static str,
-    pub fidelity: Fidelity,
-    pub budget: usize,
-    pub warm_starts: bool,
-    /// Refine solves, stated per setting rather than taken from the preset,
-    /// so that each row says what it ran.
-    pub refine: usize,
-    /// The preset's correction of the refine by a finer model (off: refine
-    /// and verify on the verification model).
-    pub correction: bool,
-    /// Long bends as trains of patches within the bounds (off: KSA's one
-    /// patch per bend).
-    pub trains: bool,
-    /// Try patches on gentle bends after the refine (off: KSA's layout).
-    pub gentle_bends: bool,
-    /// A planar target gets a planar design (off: X and Θ free).
-    pub planar_designs: bool,
-    /// KSA's curvature tolerance (mm⁻¹) instead of the preset's.
-    pub kappa_tol: Option<f64>,
-}
-
-impl Setting {
-    fn new(name: &'static str, fidelity: Fidelity, budget: usize, refine: usize) -> Setting {
-        Setting {
-            name,
-            fidelity,
-            budget,
-            warm_starts: false,
-            refine,
-            correction: true,
-            trains: true,
-            gentle_bends: true,
-            planar_designs: true,
-            kappa_tol: None,
-        }
-    }
-
-    /// The preset as users get it (cold starts, its budgets, corrected).
-    pub(super) fn preset(name: &'static str, fidelity: Fidelity) -> Setting {
-        Setting::new(name, fidelity, fidelity.budget(), fidelity.refine_budget())
-    }
-
-    /// What this row changes of its preset.
-    pub fn overrides(&self) -> TuningOverrides {
-        TuningOverrides {
-            warm_starts: Some(self.warm_starts),
-            refine_budget: Some(self.refine),
-            correction: Some(self.correction),
-            trains: Some(self.trains),
-            gentle_bends: Some(self.gentle_bends),
-            planar_designs: Some(self.planar_designs),
-            kappa_tol: self.kappa_tol,
-            ..TuningOverrides::default()
-        }
-    }
-}
+use super::cases::{Setting, Suite, Target, Targets, preset, reference_curve, targets};
 
 /// The curves and settings of `suite`.
 pub fn suite(suite: Suite) -> Result<(Targets, Vec<Setting>)> {
@@ -126,28 +19,9 @@ pub fn suite(suite: Suite) -> Result<(Targets, Vec<Setting>)> {
         Suite::Reference => reference(),
         Suite::Curves => any_curve(),
         Suite::RoundTrips => round_trips(),
-        Suite::Users => super::bench_users::users(),
-        Suite::Report => anyhow::bail!("the report runs several suites (bench_report)"),
+        Suite::Users => super::users::users(),
+        Suite::Report => anyhow::bail!("the report runs several suites (bench::report)"),
     }
-}
-
-fn preset(name: &str, params: serde_json::Value) -> Result<Curve> {
-    sampled_preset(name, params, None)
-}
-
-/// A preset curve with `points` samples (None: its default).
-pub(super) fn sampled_preset(
-    name: &str,
-    params: serde_json::Value,
-    points: Option<usize>,
-) -> Result<Curve> {
-    Ok(Preset::from_name(name, params)
-        .map_err(anyhow::Error::msg)?
-        .curve(points)?)
-}
-
-fn reference_curve(name: &str) -> Result<Curve> {
-    preset("reference", json!({ "name": name }))
 }
 
 fn quick() -> Result<(Targets, Vec<Setting>)> {

@@ -4,7 +4,7 @@
 
 use std::process::Command;
 
-use super::bench_cmd::Row;
+use super::row::Row;
 
 /// The title, what was run where, and how to read the figures.
 pub fn header(command: &str) -> String {

@@ -4,9 +4,9 @@
 
 use anyhow::{Context, Result};
 
-use super::bench_cmd::{Row, Sample};
+use super::row::{Row, Sample};
 
-/// Every row of the table in `text` (the format `bench_cmd::table` writes).
+/// Every row of the table in `text` (the format `render::table` writes).
 pub fn rows(text: &str) -> Result<Vec<Row>> {
     let mut lines = text.lines().filter(|l| l.starts_with('|'));
     let header = cells(lines.next().context("no table in the file")?);

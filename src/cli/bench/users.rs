@@ -9,7 +9,7 @@ use anyhow::Result;
 use patchwork_core::curve::{Curve, Point, StrokeShape, seeded_stroke_shaped};
 use serde_json::json;
 
-use super::bench_suite::{Setting, Target, Targets, sampled_preset as preset};
+use super::cases::{Setting, Target, Targets, sampled_preset as preset};
 use patchwork_core::inverse::Fidelity;
 
 /// The curves of the users' suite and its one setting, draft as users get it.

@@ -11,11 +11,14 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
-use super::bench_cmd::{BenchArgs, Row, measure_suite, median, plot, table};
-use super::bench_forward::{self, ForwardRow};
-use super::bench_suite::Suite;
-use super::bench_text::{header, known_limits};
-use super::bench_users::clean_stroke_of;
+use super::args::BenchArgs;
+use super::cases::Suite;
+use super::forward::{self, ForwardRow};
+use super::measure::measure_suite;
+use super::render::{plot, table};
+use super::row::{Row, median};
+use super::text::{header, known_limits};
+use super::users::clean_stroke_of;
 
 /// The service bench's section, written by
 /// `cargo bench --bench service_load -- --out docs/bench/service.md`.
@@ -25,7 +28,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     // The build and machine as the run starts (the work tree may change
     // while it runs).
     let head = header(command);
-    let forward = bench_forward::measure()?;
+    let forward = forward::measure()?;
     let curves = measured(Suite::Curves, &["draft", "standard"], args)?;
     let trips = measured(Suite::RoundTrips, &["draft"], args)?;
     let users = measured(Suite::Users, &["draft"], args)?;
@@ -330,10 +333,7 @@ fn users_section(rows: &[Row], goals: &UsersGoals, out: &Path) -> String {
 }
 
 fn forward_section(rows: &[ForwardRow]) -> String {
-    format!(
-        "## Forward solve per mesh\n\n{}",
-        bench_forward::section(rows)
-    )
+    format!("## Forward solve per mesh\n\n{}", forward::section(rows))
 }
 
 fn service_section(service: Option<&str>, out: &Path) -> String {
@@ -353,7 +353,7 @@ fn service_section(service: Option<&str>, out: &Path) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::bench_cmd::Sample;
+    use crate::cli::bench::row::Sample;
 
     fn row(curve: &str, error: f64, clean: f64, patches: f64, reach: &str) -> Row {
         Row {

@@ -1,0 +1,48 @@
+//! `patchwork bench`'s options.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::cases::Suite;
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// The small suite (two short curves, draft and standard, small budgets):
+    /// minutes instead of hours. The same as `--suite quick`.
+    #[arg(long)]
+    pub quick: bool,
+    /// Which suite: quick, reference (the presets and their variants on the
+    /// reference curves), curves (curves unlike the references, draft and
+    /// standard), round-trips (simulated random designs, the layout
+    /// unknown), users (curves as users send them: gentle arcs, sparse CAD
+    /// exports, noisy strokes, new kinds; draft), or report (BENCHMARKS.md:
+    /// forward solves, curves under draft and standard, round trips and
+    /// users' curves under draft; about 100 minutes on 2 cores).
+    #[arg(long, value_enum, default_value = "reference")]
+    pub suite: Suite,
+    /// Folder for bench.md and bench.svg (the report: its tables and plot).
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Redraw `--out`/bench.svg from this bench.md table instead of running
+    /// anything.
+    #[arg(long, value_name = "BENCH_MD")]
+    pub replot: Option<PathBuf>,
+    /// The report's file (`--suite report` only).
+    #[arg(long, default_value = "BENCHMARKS.md")]
+    pub report: PathBuf,
+    /// Runs per case (seeds 1..=N); the table shows medians.
+    #[arg(long, default_value_t = 3)]
+    pub runs: usize,
+    /// Only the curves whose name contains one of these (comma-separated,
+    /// case-insensitive), e.g. `hilbert`.
+    #[arg(long, value_delimiter = ',')]
+    pub curves: Vec<String>,
+    /// Only these settings (comma-separated names as in the table, e.g.
+    /// `draft,fine`).
+    #[arg(long, value_delimiter = ',')]
+    pub settings: Vec<String>,
+    /// Threads evaluating a generation.
+    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+    pub threads: usize,
+}

@@ -1,0 +1,188 @@
+//! Running a suite: each curve under each setting, once per seed.
+//!
+//! Every run reports its error twice: on its own verification model, and with
+//! its design re-simulated on one common reference model (`REFERENCE_MESH`) —
+//! a coarse preset's own verification flatters it, so only the second compares
+//! settings fairly. The plot uses the reference error; the re-simulation is not
+//! part of the wall time.
+
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use anyhow::Result;
+use patchwork_core::curve::{Curve, shape_error};
+use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::fe::simulate;
+use patchwork_core::inverse::input::prepare;
+use patchwork_core::inverse::objective::SHAPE_SAMPLES;
+use patchwork_core::inverse::{DesignOutcome, Plan, Smoothing, UserSettings, design};
+
+use super::args::BenchArgs;
+use super::cases::{Setting, Suite, Target};
+use super::row::{Row, Sample, median};
+use super::suite::suite;
+
+/// The common model every run's design is re-simulated on: the finest
+/// verification model of the presets.
+const REFERENCE_MESH: MeshSpec = MeshSpec {
+    element_mm: 0.5,
+    around: None,
+    straight_mm: None,
+};
+
+/// The curves of `which` that `--curves` names (all when it names none),
+/// each under the settings `keep` keeps, measured in order.
+pub fn measure_suite(
+    which: Suite,
+    keep: impl Fn(&Setting) -> bool,
+    args: &BenchArgs,
+) -> Result<Vec<Row>> {
+    let (mut curves, mut settings) = suite(which)?;
+    curves.retain(|t| {
+        args.curves.is_empty()
+            || args
+                .curves
+                .iter()
+                .any(|f| t.name.to_lowercase().contains(&f.to_lowercase()))
+    });
+    settings.retain(|s| keep(s));
+    anyhow::ensure!(
+        !curves.is_empty() && !settings.is_empty(),
+        "--curves/--settings select nothing from the {which:?} suite"
+    );
+    let mut rows = Vec::new();
+    for target in &curves {
+        for setting in &settings {
+            let row = measure_row(target, setting, args)?;
+            eprintln!(
+                "{:<40} {:<24} {:>8.2} s {:>6.0} evals {:>6.2} % (reference model {:.2} %), {} patches, {} beyond limits",
+                row.curve,
+                row.setting,
+                row.figures.wall_s,
+                row.figures.evaluations,
+                row.figures.shape_error_percent,
+                row.figures.reference_error_percent,
+                row.figures.patches,
+                row.figures.beyond_limits
+            );
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+/// `setting` on `target`, once per seed: the medians (the most beyond
+/// limits), the reach verdict and the failures.
+pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Result<Row> {
+    let mut samples = Vec::new();
+    let mut failures = 0;
+    let mut reach = String::from("–");
+    let mut aimed: Option<Curve> = None;
+    for seed in 1..=args.runs as u64 {
+        let settings = UserSettings {
+            fidelity: setting.fidelity,
+            budget: Some(setting.budget),
+            seed,
+            threads: args.threads,
+            ..UserSettings::default()
+        };
+        let plan = Plan::resolve(settings, &setting.overrides())?;
+        // Each run is timed as a fresh process would run it: with caches
+        // of its own.
+        let started = Instant::now();
+        match design(&target.curve, &plan, &AtomicBool::new(false), &mut |_| {}) {
+            Ok(o) => {
+                let wall_s = started.elapsed().as_secs_f64();
+                reach = verdict(&o);
+                // The target the runs aimed at: smoothed as they smoothed
+                // it, the same for every seed.
+                if aimed.is_none() {
+                    let kappa_tol = plan.tuning().kappa_tol;
+                    aimed = Some(prepare(&target.curve, Smoothing::Auto, kappa_tol)?.0);
+                }
+                if let Some(aimed) = &aimed {
+                    samples.push(sample(target, aimed, &plan, &o, wall_s));
+                }
+            }
+            Err(e) => {
+                eprintln!("{}, {}, seed {seed}: {e}", target.name, setting.name);
+                failures += 1;
+            }
+        }
+    }
+    let column = |f: fn(&Sample) -> f64| median(samples.iter().map(f).collect());
+    Ok(Row {
+        curve: target.name.clone(),
+        setting: setting.name.to_string(),
+        figures: Sample {
+            wall_s: column(|s| s.wall_s),
+            evaluations: column(|s| s.evaluations),
+            shape_error_percent: column(|s| s.shape_error_percent),
+            reference_error_percent: column(|s| s.reference_error_percent),
+            clean_error_percent: column(|s| s.clean_error_percent),
+            dtw_curvature: column(|s| s.dtw_curvature),
+            dtw_torsion: column(|s| s.dtw_torsion),
+            patches: column(|s| s.patches),
+            beyond_limits: samples.iter().map(|s| s.beyond_limits).fold(0.0, f64::max),
+        },
+        reach,
+        failures,
+    })
+}
+
+/// The figures of one finished run. The reference error is the design's
+/// on `REFERENCE_MESH` against `aimed`, the target the run aimed at; a
+/// drawn target's clean error is that simulation's against the clean curve
+/// it was drawn from.
+fn sample(target: &Target, aimed: &Curve, plan: &Plan, o: &DesignOutcome, wall_s: f64) -> Sample {
+    let tuning = plan.tuning();
+    let on_reference = match o.verified_on == REFERENCE_MESH {
+        true => Some(o.simulation.clone()),
+        false => simulate(&o.design, &tuning.model(REFERENCE_MESH)).ok(),
+    };
+    let error_against = |curve: &Curve| {
+        on_reference
+            .as_ref()
+            .and_then(|s| shape_error(&s.centreline, curve, SHAPE_SAMPLES).ok())
+            .map_or(f64::NAN, |e| e.percent_of_length)
+    };
+    Sample {
+        wall_s,
+        evaluations: o.evaluations as f64,
+        shape_error_percent: o.metrics.shape_error_percent,
+        reference_error_percent: error_against(aimed),
+        clean_error_percent: target.clean.as_ref().map_or(f64::NAN, error_against),
+        dtw_curvature: o.metrics.dtw_curvature,
+        dtw_torsion: o.metrics.dtw_torsion,
+        patches: o.design.patches.len() as f64,
+        beyond_limits: o.at_limits.iter().filter(|a| a.beyond).count() as f64,
+    }
+}
+
+/// The reach stage's verdict in a table cell.
+fn verdict(o: &DesignOutcome) -> String {
+    match &o.reach {
+        Some(r) if r.reachable() => "yes".into(),
+        Some(r) => r
+            .out_of_reach
+            .iter()
+            .map(|span| {
+                let (from, to) = (span.s_start_mm, span.s_end_mm);
+                match span.tightest_bend_radius_mm {
+                    // Too tight a bend for its twist per bend.
+                    Some(_) => format!(
+                        "no: s {from:.0}–{to:.0} mm needs r {:.0} mm",
+                        span.needs_bend_radius_mm
+                    ),
+                    // More twist per bend than any patch makes.
+                    None => format!(
+                        "no: s {from:.0}–{to:.0} mm needs {:.1} twist per bend (r {:.0} mm)",
+                        span.needs_twist_per_bend, span.needs_bend_radius_mm
+                    ),
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("; "),
+        None => "–".into(),
+    }
+}

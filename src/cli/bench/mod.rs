@@ -1,0 +1,89 @@
+//! `patchwork bench [--suite quick|reference|curves|round-trips] [--out DIR] [--runs N]`:
+//! run time against error. A fixed suite of target curves × fidelity
+//! settings (`cases.rs`, `suite.rs`, `users.rs`), each run with seeds
+//! 1..=N; writes `bench.md` (medians: wall time, evaluations, shape error, DTW
+//! κ and τ) and `bench.svg` (shape error against time, Pareto front per curve).
+//!
+//! The modules import downward only: `args`, `cases` and `row` at the
+//! bottom; `users` and `suite` (the curves), `measure` (running them),
+//! `render`, `replot`, `text` and `forward` above them; `report`
+//! (BENCHMARKS.md) on those; this file, the command, on top.
+
+mod args;
+mod cases;
+mod forward;
+mod measure;
+mod render;
+mod replot;
+mod report;
+mod row;
+mod suite;
+mod text;
+mod users;
+
+use anyhow::{Context, Result};
+
+pub use args::BenchArgs;
+use cases::Suite;
+use measure::measure_suite;
+use render::{plot, table};
+
+use super::output::emit;
+
+pub fn run(args: BenchArgs) -> Result<()> {
+    anyhow::ensure!(args.runs >= 1, "--runs must be at least 1");
+    anyhow::ensure!(args.threads >= 1, "--threads must be at least 1");
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    if let Some(table) = &args.replot {
+        let text = std::fs::read_to_string(table)
+            .with_context(|| format!("cannot read {}", table.display()))?;
+        let rows = replot::rows(&text)?;
+        return Ok(std::fs::write(args.out.join("bench.svg"), plot(&rows))?);
+    }
+    let chosen = if args.quick { Suite::Quick } else { args.suite };
+    let command = command_line(&args, chosen);
+    if chosen == Suite::Report {
+        return report::run(&args, &command);
+    }
+    let rows = measure_suite(
+        chosen,
+        |s| args.settings.is_empty() || args.settings.iter().any(|f| f == s.name),
+        &args,
+    )?;
+    let table = table(&rows, &command);
+    std::fs::write(args.out.join("bench.md"), &table)?;
+    std::fs::write(args.out.join("bench.svg"), plot(&rows))?;
+    emit(&table)
+}
+
+/// The command that reproduces this run.
+fn command_line(args: &BenchArgs, chosen: Suite) -> String {
+    let suite = match chosen {
+        Suite::Quick => " --quick",
+        Suite::Reference => "",
+        Suite::Curves => " --suite curves",
+        Suite::RoundTrips => " --suite round-trips",
+        Suite::Users => " --suite users",
+        Suite::Report => " --suite report",
+    };
+    let mut command = format!(
+        "patchwork bench{suite} --runs {} --threads {} --out {}",
+        args.runs,
+        args.threads,
+        args.out.display()
+    );
+    if chosen == Suite::Report {
+        command.push_str(&format!(" --report {}", args.report.display()));
+    }
+    for (flag, values) in [("curves", &args.curves), ("settings", &args.settings)] {
+        if !values.is_empty() {
+            let list = values.join(",");
+            match list.contains(' ') {
+                true => command.push_str(&format!(" --{flag} \"{list}\"")),
+                false => command.push_str(&format!(" --{flag} {list}")),
+            }
+        }
+    }
+    command
+}
