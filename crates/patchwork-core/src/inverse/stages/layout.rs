@@ -5,8 +5,8 @@
 //!
 //! A design whose error stays above `HIGH_ERROR_PERCENT` with patches
 //! at their smallest and narrowest is then thinned: one of them taken out
-//! and its neighbours respaced, refined, kept if the error falls, up to
-//! `THINNING_ROUNDS` times.
+//! and its neighbours respaced, refined, kept if the error falls; and again
+//! while each round lowers the error, up to `THINNING_ROUNDS` times.
 //!
 //! A planar design's candidate is tried planar first; when that does not
 //! win, again with X and Θ free (inclined patches bend the tube less than
@@ -32,8 +32,8 @@ use crate::inverse::objective::SHAPE_SAMPLES;
 const MARGIN: f64 = 0.05;
 
 /// At most this many patches are taken out of a design whose shape error
-/// stays above `HIGH_ERROR_PERCENT` with patches at their weakest (each a
-/// refine of its own).
+/// is above `HIGH_ERROR_PERCENT` with patches at their weakest, one per
+/// round while each lowers the error (each a refine of its own).
 const THINNING_ROUNDS: usize = 3;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,8 +77,11 @@ impl RunStage for Layout {
                 break;
             }
         }
-        for _ in 0..THINNING_ROUNDS {
-            if error <= HIGH_ERROR_PERCENT {
+        for round in 0..THINNING_ROUNDS {
+            // A low error needs no thinning; but once a patch taken out has
+            // lowered the error, the layout was overfull, and the next
+            // round is tried whatever the error.
+            if round == 0 && error <= HIGH_ERROR_PERCENT {
                 break;
             }
             let Some(candidate) = thinned_candidate(run) else {
