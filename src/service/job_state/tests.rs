@@ -15,6 +15,15 @@ fn listed_after(text: &str, marker: &str, close: char) -> Vec<String> {
         .collect()
 }
 
+/// The kinds after which a job sends nothing more, by name.
+fn final_events() -> Vec<&'static str> {
+    EventKind::ALL
+        .into_iter()
+        .filter(|k| k.is_final())
+        .map(EventKind::as_str)
+        .collect()
+}
+
 fn status_names() -> Vec<String> {
     JobStatus::ALL.map(|s| s.as_str().to_string()).to_vec()
 }
@@ -45,12 +54,7 @@ fn a_job_ends_succeeded_failed_or_cancelled_and_its_final_event_says_which() {
         .map(JobStatus::as_str)
         .collect();
     assert_eq!(ended, ["succeeded", "failed", "cancelled"]);
-    let last: Vec<&str> = EventKind::ALL
-        .into_iter()
-        .filter(|k| k.is_final())
-        .map(EventKind::as_str)
-        .collect();
-    assert_eq!(last, ["done", "failed", "cancelled"]);
+    assert_eq!(final_events(), ["done", "failed", "cancelled"]);
     for ending in [Ending::Failed, Ending::Cancelled] {
         assert!(ending.status().is_terminal() && ending.event().is_final());
         assert_eq!(ending.status().as_str(), ending.event().as_str());
@@ -107,14 +111,9 @@ fn the_api_document_lists_exactly_the_statuses() {
 #[test]
 fn the_web_app_ends_a_stream_on_the_final_events_and_handles_every_kind() {
     let events_js = include_str!("../../../web/static/js/events.js");
-    let finals: Vec<&str> = EventKind::ALL
-        .into_iter()
-        .filter(|k| k.is_final())
-        .map(EventKind::as_str)
-        .collect();
     assert_eq!(
         listed_after(events_js, "const FINAL = new Set([", ']'),
-        finals
+        final_events()
     );
     let watch_js = include_str!("../../../web/static/js/watch.js");
     for kind in EventKind::ALL {

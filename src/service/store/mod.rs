@@ -185,7 +185,7 @@ where
 fn renewal_of(now: Option<(String, i64)>, lease: &Lease) -> Renewal {
     match now {
         Some((status, attempt))
-            if status == JobStatus::Cancelled.as_str() && attempt == lease.attempt =>
+            if status.parse() == Ok(JobStatus::Cancelled) && attempt == lease.attempt =>
         {
             Renewal::Cancelled
         }
