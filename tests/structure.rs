@@ -62,3 +62,53 @@ fn no_function_in_the_binary_passes_80_lines() {
         long.join("\n  ")
     );
 }
+
+/// The service's layers: HTTP (handlers, request bodies, problem details)
+/// → job spec → store → worker → core. What runs a job — the job spec, the
+/// store, the worker and what they import — never reaches back into the
+/// HTTP layer: a job is read as its spec, not as a request.
+#[test]
+fn a_job_runs_without_the_http_layer() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let (graph, _, _) = structure(&root);
+    let module = |path: &str| path.split('/').map(String::from).collect::<Vec<_>>();
+    let http = [
+        "service/request",
+        "service/problem",
+        "service/jobs",
+        "service/routes",
+    ]
+    .map(module);
+    let starts: Vec<Vec<String>> = graph
+        .keys()
+        .filter(|m| {
+            ["service/spec", "service/worker", "service/store"]
+                .iter()
+                .any(|layer| m.starts_with(&module(layer)))
+        })
+        .cloned()
+        .collect();
+    assert!(starts.len() >= 8, "{starts:?}");
+    // Everything those modules reach, by import.
+    let mut reached: Vec<Vec<String>> = starts.clone();
+    let mut seen: std::collections::BTreeSet<Vec<String>> = starts.into_iter().collect();
+    while let Some(m) = reached.pop() {
+        for next in graph.get(&m).into_iter().flatten() {
+            if seen.insert(next.clone()) {
+                reached.push(next.clone());
+            }
+        }
+    }
+    let wrong: Vec<_> = http.iter().filter(|m| seen.contains(*m)).collect();
+    assert!(wrong.is_empty(), "the job's way reaches {wrong:?}");
+    assert!(seen.contains(&module("service/job_state")), "{seen:?}");
+    // Nor does it use axum's types.
+    for m in &seen {
+        let file = root.join(m.join("/"));
+        for path in [file.with_extension("rs"), file.join("mod.rs")] {
+            if let Ok(text) = std::fs::read_to_string(&path) {
+                assert!(!text.contains("axum::"), "{} uses axum", path.display());
+            }
+        }
+    }
+}

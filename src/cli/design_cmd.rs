@@ -12,7 +12,7 @@ use patchwork_core::design::Design;
 use patchwork_core::fabrication::design_files;
 use patchwork_core::inverse::{
     Caches, DesignCheckpoint, DesignProgress, DesignReport, Fidelity, Observer, Plan,
-    SettingsError, Stage, TuningOverrides, UserSettings, design_resumable,
+    SettingsError, TuningOverrides, UserSettings, design_resumable,
 };
 
 use super::design_summary::summary;
@@ -135,16 +135,9 @@ impl Observer for CliObserver<'_> {
         if !self.terminal {
             return;
         }
-        let stage = match p.stage {
-            Stage::Seed => "seed  ",
-            Stage::Reach => "reach ",
-            Stage::Search => "search",
-            Stage::Polish => "polish",
-            Stage::Verify => "verify",
-            Stage::Refine => "refine",
-        };
+        let stage = p.stage.as_str();
         eprint!(
-            "\r{stage} generation {:>4}  evaluations {:>5}/{}  best {:>9.5}  σ {:.3}  {:>6.1} s ",
+            "\r{stage:<12} generation {:>4}  evaluations {:>5}/{}  best {:>9.5}  σ {:.3}  {:>6.1} s ",
             p.generation, p.evaluations, self.total_budget, p.best_objective, p.sigma, p.elapsed_s
         );
     }
@@ -181,6 +174,9 @@ pub fn run(args: DesignArgs) -> Result<()> {
         }
         _ => None,
     };
+    if terminal {
+        eprintln!("plan: {}", plan.describe());
+    }
     let mut observer = CliObserver {
         terminal,
         total_budget: plan.total_budget(),

@@ -110,5 +110,10 @@ async fn copy(from: &Database, to: &Database) -> Result<Tally> {
             tally.clashes.push(id.clone());
         }
     }
+    // Jobs copied from a store that predates job specs get theirs here, so
+    // that a server already running on the destination can run them.
+    super::upgrade::derive_specs(destination.as_ref())
+        .await
+        .context("--to: deriving the job specs of copied jobs")?;
     Ok(tally)
 }

@@ -12,6 +12,7 @@ use super::auth::Owner;
 use super::job_state::{Ending, EventKind, JobStatus};
 use super::problem::{ApiJson, Problem};
 use super::request::JobRequest;
+use super::spec::JobSpec;
 use super::state::{AppState, StopReason};
 use super::store::JobRow;
 
@@ -95,7 +96,7 @@ pub async fn create(
         return Err(p);
     }
     let key = idempotency_key(&headers)?;
-    request.prepare()?;
+    let spec = request.spec()?.to_stored();
     let stored = serde_json::to_string(&request).map_err(Problem::internal)?;
     if let Some(key) = &key
         && let Some(existing) = state
@@ -114,6 +115,7 @@ pub async fn create(
             &id,
             owner.stored(),
             &stored,
+            &spec,
             key.as_deref(),
             (EventKind::Stage, &queued),
         )
@@ -261,13 +263,19 @@ pub async fn get(
 
 /// One job as GET /v1/jobs/{id} and its cancel answer it: the job resource
 /// and what was asked, the request as submitted and the search's budget in
-/// evaluations (progress against it).
+/// evaluations (its plan's: progress against it).
 fn detail(row: &JobRow) -> Result<Value, Problem> {
     let mut view = serde_json::to_value(JobView::new(row)).map_err(Problem::internal)?;
-    if let Ok(request) = serde_json::from_str::<JobRequest>(&row.request) {
-        let fidelity = request.options.fidelity.unwrap_or_default();
-        view["search_budget"] = json!(request.options.budget.unwrap_or(fidelity.budget()));
-        view["request"] = serde_json::to_value(&request).map_err(Problem::internal)?;
+    if let Ok(request) = serde_json::from_str::<Value>(&row.request) {
+        view["request"] = request;
+    }
+    match row.spec.as_deref().map(JobSpec::from_stored) {
+        Some(Ok(JobSpec::Design(design))) => {
+            view["search_budget"] = json!(design.plan().search_budget());
+        }
+        // A job stored before specs whose request no longer makes one, or a
+        // spec of another version: the detail goes without its budget.
+        Some(Err(_)) | None => {}
     }
     Ok(view)
 }

@@ -15,8 +15,10 @@ mod quick;
 mod relay;
 pub(crate) mod request;
 mod routes;
+pub(crate) mod spec;
 mod state;
 mod store;
+mod upgrade;
 mod web;
 mod worker;
 
@@ -65,6 +67,14 @@ async fn serve(config: Config) -> Result<()> {
         .open()
         .await
         .with_context(|| format!("opening the database {}", config.db))?;
+    let derived = upgrade::derive_specs(store.as_ref()).await?;
+    if derived != upgrade::Derived::default() {
+        tracing::info!(
+            specs = derived.specs,
+            failed = derived.failed,
+            "jobs stored before job specs given theirs"
+        );
+    }
     let requeued = store.requeue_orphans().await?;
     if requeued > 0 {
         tracing::info!(

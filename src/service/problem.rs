@@ -7,6 +7,7 @@ use axum::body::Bytes;
 use axum::extract::{FromRequest, Request};
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
+use patchwork_core::inverse::SettingsError;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
@@ -60,6 +61,13 @@ impl Problem {
             StatusCode::INTERNAL_SERVER_ERROR,
             "internal error; it has been logged",
         )
+    }
+}
+
+impl From<SettingsError> for Problem {
+    /// A refused setting is the user's: 422 naming the field.
+    fn from(error: SettingsError) -> Problem {
+        Problem::invalid(error.field, error.reason)
     }
 }
 

@@ -1,17 +1,20 @@
-//! The job request (`POST /v1/jobs`) and the quick-look bodies, checked at the
-//! boundary: whatever passes here is a design run that can start.
+//! The job request (`POST /v1/jobs`) and the quick-look bodies: the HTTP
+//! body formats, checked at the boundary. A job request becomes a
+//! [`JobSpec`] (`spec.rs`) — whatever passes is a design run that can start —
+//! and a refusal is a [`SettingsError`] naming the request's field, which
+//! the handler answers as problem+json.
 
 use patchwork_core::curve::{Curve, Preset, Units, points_from_json, read_text};
 use patchwork_core::design::Design;
 use patchwork_core::inverse::input::check_smoothing;
 use patchwork_core::inverse::{
-    Fidelity, Freedom, Plan, SettingsError, Smoothing, TuningOverrides, UserSettings,
-    VariableBounds,
+    Fidelity, Freedom, SettingsError, Smoothing, TuningOverrides, UserSettings, VariableBounds,
 };
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
-use super::problem::{Problem, field_of};
+use super::problem::field_of;
+use super::spec::{DesignSpec, JobSpec};
 
 /// Most forward evaluations one job may ask for.
 pub const MAX_BUDGET: usize = 100_000;
@@ -76,41 +79,35 @@ pub struct JobRequest {
     pub tuning: Option<TuningOverrides>,
 }
 
-/// A validated job: the target and the run's plan.
-pub struct Prepared {
-    pub target: Curve,
-    pub plan: Plan,
-}
-
 impl JobRequest {
-    /// Every check a run would otherwise fail late on, naming the field.
-    pub fn prepare(&self) -> Result<Prepared, Problem> {
+    /// The job this request asks for, checked once: every check a run would
+    /// otherwise fail late on, naming the request's field.
+    pub fn spec(&self) -> Result<JobSpec, SettingsError> {
         let target = self.curve.load(self.units, "curve")?;
         let base = design_base(self.design.as_ref(), "design")?;
-        let fidelity = self.options.fidelity.unwrap_or_default();
-        let budget = self.options.budget.unwrap_or(fidelity.budget());
-        if !(1..=MAX_BUDGET).contains(&budget) {
-            return Err(Problem::invalid(
+        if let Some(budget) = self.options.budget
+            && !(1..=MAX_BUDGET).contains(&budget)
+        {
+            return Err(SettingsError::new(
                 "options.budget",
                 format!("must be between 1 and {MAX_BUDGET} evaluations, got {budget}"),
             ));
         }
         let seed = self.options.seed.unwrap_or(1);
         if seed > MAX_SEED {
-            return Err(Problem::invalid(
+            return Err(SettingsError::new(
                 "options.seed",
                 format!("must be at most {MAX_SEED} (2^53 - 1), got {seed}"),
             ));
         }
-        let preset = TuningOverrides::default();
-        let tuning = self.tuning.as_ref().unwrap_or(&preset);
+        let tuning = self.tuning.clone().unwrap_or_default();
         for (field, value) in [
             ("tuning.search_patience", tuning.search_patience),
             ("tuning.polish_budget", tuning.polish_budget),
             ("tuning.refine_budget", tuning.refine_budget),
         ] {
             if value.is_some_and(|v| v > MAX_BUDGET) {
-                return Err(Problem::invalid(
+                return Err(SettingsError::new(
                     field,
                     format!("must be at most {MAX_BUDGET} evaluations"),
                 ));
@@ -118,7 +115,7 @@ impl JobRequest {
         }
         let settings = UserSettings {
             base,
-            fidelity,
+            fidelity: self.options.fidelity.unwrap_or_default(),
             seed,
             budget: self.options.budget,
             bounds: self.bounds.unwrap_or_default(),
@@ -132,49 +129,49 @@ impl JobRequest {
             threads: 1,
         };
         check_smoothing(&target, settings.smoothing)
-            .map_err(|e| Problem::invalid("options.smooth_mm", e.to_string()))?;
-        let plan = Plan::resolve(settings, tuning).map_err(problem_of)?;
-        Ok(Prepared { target, plan })
+            .map_err(|e| SettingsError::new("options.smooth_mm", e.to_string()))?;
+        let design = DesignSpec::new(target, settings, tuning).map_err(request_field)?;
+        Ok(JobSpec::Design(design))
     }
 }
 
-/// A settings error as a problem naming the request's field.
-fn problem_of(error: SettingsError) -> Problem {
+/// A settings error, its field named as the request names it.
+fn request_field(error: SettingsError) -> SettingsError {
     let SettingsError { field, reason } = error;
     let field = match field.as_str() {
         "budget" => "options.budget".to_string(),
         "smoothing" => "options.smooth_mm".to_string(),
         _ => field,
     };
-    Problem::invalid(field, reason)
+    SettingsError { field, reason }
 }
 
 impl CurveSpec {
-    pub fn load(&self, units: Units, field: &str) -> Result<Curve, Problem> {
+    pub fn load(&self, units: Units, field: &str) -> Result<Curve, SettingsError> {
         let given = [
             self.points.is_some(),
             self.csv.is_some(),
             self.preset.is_some(),
         ];
         if given.iter().filter(|&&g| g).count() != 1 {
-            return Err(Problem::invalid(
+            return Err(SettingsError::new(
                 field,
                 "give exactly one of `points`, `csv` or `preset`",
             ));
         }
         if self.params.is_some() && self.preset.is_none() {
-            return Err(Problem::invalid(
+            return Err(SettingsError::new(
                 format!("{field}.params"),
                 "`params` belongs to a `preset`",
             ));
         }
         if let Some(points) = &self.points {
             return points_from_json(points, units)
-                .map_err(|e| Problem::invalid(format!("{field}.points"), e.to_string()));
+                .map_err(|e| SettingsError::new(format!("{field}.points"), e.to_string()));
         }
         if let Some(csv) = &self.csv {
             return read_text(csv, units)
-                .map_err(|e| Problem::invalid(format!("{field}.csv"), e.to_string()));
+                .map_err(|e| SettingsError::new(format!("{field}.csv"), e.to_string()));
         }
         let name = self.preset.as_deref().unwrap_or_default();
         let params = self
@@ -182,22 +179,22 @@ impl CurveSpec {
             .clone()
             .unwrap_or(Value::Object(Default::default()));
         let preset = Preset::from_name(name, params)
-            .map_err(|e| Problem::invalid(format!("{field}.preset"), e))?;
+            .map_err(|e| SettingsError::new(format!("{field}.preset"), e))?;
         // Presets are defined in millimetres; `units` applies to points and CSV.
         preset
             .curve(self.samples)
-            .map_err(|e| Problem::invalid(format!("{field}.params"), e.to_string()))
+            .map_err(|e| SettingsError::new(format!("{field}.params"), e.to_string()))
     }
 }
 
 /// The design JSON without patches (defaults: the reference scene), validated.
-pub fn design_base(value: Option<&Value>, field: &str) -> Result<Design, Problem> {
+pub fn design_base(value: Option<&Value>, field: &str) -> Result<Design, SettingsError> {
     let mut value = value.cloned().unwrap_or(Value::Object(Default::default()));
     let Some(object) = value.as_object_mut() else {
-        return Err(Problem::invalid(field, "must be an object"));
+        return Err(SettingsError::new(field, "must be an object"));
     };
     if object.contains_key("patches") {
-        return Err(Problem::invalid(
+        return Err(SettingsError::new(
             format!("{field}.patches"),
             "a job designs the patches: leave `patches` out",
         ));
@@ -210,20 +207,20 @@ pub fn design_base(value: Option<&Value>, field: &str) -> Result<Design, Problem
         } else {
             format!("{field}.{inner}")
         };
-        Problem::invalid(path.clone(), format!("{path}: {}", e.inner()))
+        SettingsError::new(path.clone(), format!("{path}: {}", e.inner()))
     })?;
     validate_design(&design, field)?;
     Ok(design)
 }
 
 /// `Design::validate`, the field path prefixed.
-pub fn validate_design(design: &Design, field: &str) -> Result<(), Problem> {
+pub fn validate_design(design: &Design, field: &str) -> Result<(), SettingsError> {
     design.validate().map_err(|e| {
         let path = if field.is_empty() {
             e.field.clone()
         } else {
             format!("{field}.{}", e.field)
         };
-        Problem::invalid(path.clone(), format!("{path}: {}", e.reason))
+        SettingsError::new(path.clone(), format!("{path}: {}", e.reason))
     })
 }

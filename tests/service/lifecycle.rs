@@ -27,15 +27,18 @@ async fn a_job_runs_to_done_and_its_files_download() {
     assert_eq!(kinds.first(), Some(&"stage"));
     assert_eq!(kinds.last(), Some(&"done"), "{events:?}");
     assert!(kinds.contains(&"progress"));
-    // Draft refines after verifying: the last stage is the refine.
-    for stage in ["queued", "seed", "reach", "search", "verify", "refine"] {
-        assert!(
-            events
-                .iter()
-                .any(|e| e.kind == "stage" && e.data["stage"] == stage),
-            "no stage {stage}"
-        );
-    }
+    // Queued, then every stage of draft's plan as it begins, in its order.
+    let stages: Vec<&str> = events
+        .iter()
+        .filter(|e| e.kind == "stage")
+        .map(|e| e.data["stage"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        stages,
+        [
+            "queued", "seed", "reach", "search", "verify", "length", "refine", "layout"
+        ]
+    );
     // Ids are 1, 2, 3, … without gaps.
     for (i, e) in events.iter().enumerate() {
         assert_eq!(e.id, i as u64 + 1);
@@ -53,7 +56,7 @@ async fn a_job_runs_to_done_and_its_files_download() {
     let job = api.job(id).await;
     assert_schema("Job", &job);
     assert_eq!(job["status"], "succeeded");
-    assert_eq!(job["progress"]["stage"], "refine");
+    assert_eq!(job["progress"]["stage"], "layout", "the last stage's");
 
     let result: Value = api
         .get(&format!("/v1/jobs/{id}/result"))

@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use patchwork_core::curve::ReferenceCurve;
 use patchwork_core::inverse::{
-    DesignProgress, Fidelity, Plan, Stage, Start, TuningOverrides, UserSettings, design,
+    DesignProgress, Fidelity, Plan, StageName, Start, TuningOverrides, UserSettings, design,
 };
 
 /// One run's best objective after each generation, and its outcome.
@@ -64,7 +64,7 @@ fn run(start: Start, budget: usize, seed: u64) -> Run {
     let plan = Plan::resolve(settings, &overrides).expect("valid settings");
     let mut trajectory = Vec::new();
     let mut observer = |p: &DesignProgress| {
-        if p.stage == Stage::Search {
+        if p.stage == StageName::Search {
             trajectory.push((p.evaluations, p.best_objective));
         }
     };

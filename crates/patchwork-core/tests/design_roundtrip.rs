@@ -16,8 +16,8 @@ use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::newton::NewtonOptions;
 use patchwork_core::fe::{SimulateOptions, simulate};
 use patchwork_core::inverse::{
-    Caches, FinalRefine, ObjectiveOptions, Plan, SearchEnd, Stage, Tuning, UserSettings,
-    VariableBounds, assess, design,
+    Caches, FinalRefineSettings, ObjectiveOptions, Plan, SearchEnd, StageName, Tuning,
+    UserSettings, VariableBounds, assess, design,
 };
 
 /// A run's settings and tuning in one flat struct, as these tests vary them
@@ -36,7 +36,7 @@ struct Request {
     polish_budget: usize,
     refine_budget: usize,
     correction_mesh: Option<MeshSpec>,
-    final_refine: Option<FinalRefine>,
+    final_refine: Option<FinalRefineSettings>,
     objective: ObjectiveOptions,
     search_patience: usize,
 }
@@ -231,9 +231,9 @@ fn one_patch_round_trip_recovers_the_design() {
         outcome.elapsed.as_secs_f64()
     );
     assert!(
-        stages.contains(&Stage::Seed)
-            && stages.contains(&Stage::Search)
-            && stages.contains(&Stage::Verify)
+        stages.contains(&StageName::Seed)
+            && stages.contains(&StageName::Search)
+            && stages.contains(&StageName::Verify)
     );
     assert!(outcome.evaluations <= 200);
     // Measured with the default objective (shape weight 10): 1.94 → 0.065,
@@ -266,7 +266,7 @@ fn refine_takes_a_round_trip_to_its_solution() {
         &request.plan(),
         &AtomicBool::new(false),
         &mut |p| {
-            if p.stage == Stage::Refine {
+            if p.stage == StageName::Refine {
                 refine_steps.push((p.evaluations, p.best_objective));
             }
         },
@@ -361,20 +361,60 @@ fn a_final_refine_goes_on_on_the_finest_model() {
     let finest = MeshSpec::uniform(1.0);
     let (request, target) = two_model_round_trip(finest, MeshSpec::uniform(2.0));
     let request = Request {
-        final_refine: Some(FinalRefine {
+        final_refine: Some(FinalRefineSettings {
             mesh: finest,
             staging_solves: 25,
             newton: NewtonOptions::default(),
         }),
         ..request
     };
-    let outcome = design(
+    use patchwork_core::inverse::{DesignProgress, Observer, design_resumable};
+    /// The stages announced, and the stage of every progress report.
+    #[derive(Default)]
+    struct Stages {
+        announced: Vec<StageName>,
+        reported: Vec<StageName>,
+    }
+    impl Observer for Stages {
+        fn progress(&mut self, p: &DesignProgress) {
+            self.reported.push(p.stage);
+        }
+        fn stage(&mut self, p: &DesignProgress) {
+            self.announced.push(p.stage);
+        }
+    }
+    let plan = request.plan();
+    let mut stages = Stages::default();
+    let outcome = design_resumable(
         &target,
-        &request.plan(),
+        &plan,
+        None,
+        &Caches::default(),
         &AtomicBool::new(false),
-        &mut |_| {},
+        &mut stages,
     )
     .unwrap();
+    // The executor announces every stage of the plan, in its order, by the
+    // name the plan lists it by; the final refine reports as itself.
+    let planned: Vec<StageName> = std::iter::once(StageName::Seed)
+        .chain(plan.stages().iter().map(|s| s.name()))
+        .collect();
+    assert_eq!(stages.announced, planned);
+    assert_eq!(planned.last(), Some(&StageName::FinalRefine));
+    assert_eq!(
+        plan.describe(),
+        planned
+            .iter()
+            .map(|s| s.as_str())
+            .collect::<Vec<_>>()
+            .join(" → ")
+    );
+    assert!(
+        plan.describe().ends_with("refine → final refine"),
+        "{}",
+        plan.describe()
+    );
+    assert!(stages.reported.contains(&StageName::FinalRefine));
     let staged = outcome.refine.expect("the refine ran");
     let last = outcome.final_refine.expect("the final refine ran");
     println!(
@@ -414,7 +454,7 @@ fn a_final_refine_that_cannot_start_leaves_the_refines_result() {
     let request = Request {
         budget: 30,
         refine_budget: 20,
-        final_refine: Some(FinalRefine {
+        final_refine: Some(FinalRefineSettings {
             mesh: finest,
             staging_solves: 10,
             newton: NewtonOptions {
@@ -488,7 +528,7 @@ fn cancellation_reaches_the_refine() {
     };
     let mut refined = false;
     let result = design(&target, &request.plan(), &cancel, &mut |p| {
-        if p.stage == Stage::Refine {
+        if p.stage == StageName::Refine {
             refined = true;
             cancel.store(true, std::sync::atomic::Ordering::Relaxed);
         }
@@ -514,7 +554,7 @@ fn cancellation_reaches_the_reach_table() {
     }
     impl Observer for CancelAtReach<'_> {
         fn progress(&mut self, p: &DesignProgress) {
-            if p.stage == Stage::Reach {
+            if p.stage == StageName::Reach {
                 self.entered = true;
                 self.cancel
                     .store(true, std::sync::atomic::Ordering::Relaxed);
@@ -567,7 +607,7 @@ fn cancellation_stops_the_run() {
         ..Request::default()
     };
     let result = design(&target, &request.plan(), &cancel, &mut |p| {
-        if p.stage == Stage::Search && p.generation >= 2 {
+        if p.stage == StageName::Search && p.generation >= 2 {
             cancel.store(true, std::sync::atomic::Ordering::Relaxed);
         }
     });
@@ -610,7 +650,8 @@ fn a_run_resumes_from_a_serialised_checkpoint() {
         &Caches::default(),
         &cancel,
         &mut |p: &DesignProgress| {
-            if p.stage == Stage::Search && first_search.is_none() {
+            // The search's first generation (its announcement is generation 0).
+            if p.stage == StageName::Search && p.generation > 0 && first_search.is_none() {
                 first_search = Some(p.evaluations);
             }
         },
@@ -659,9 +700,9 @@ fn polish_stage_runs_on_the_verification_model() {
         (outcome, stages)
     };
     let (before, stages) = run(&unpolished);
-    assert!(!stages.contains(&Stage::Polish));
+    assert!(!stages.contains(&StageName::Polish));
     let (after, stages) = run(&polished);
-    assert!(stages.contains(&Stage::Polish));
+    assert!(stages.contains(&StageName::Polish));
     println!(
         "objective on the verification model: search only {:.4} ({} evaluations), with polish {:.4} ({})",
         before.metrics.objective, before.evaluations, after.metrics.objective, after.evaluations

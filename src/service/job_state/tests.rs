@@ -121,3 +121,33 @@ fn the_web_app_ends_a_stream_on_the_final_events_and_handles_every_kind() {
         assert!(watch_js.contains(&handled), "watch.js lacks {handled}");
     }
 }
+
+/// Every stage a plan may announce is in the API document's `Stage` enum,
+/// in order, and has its label in the web app.
+#[test]
+fn the_api_document_and_the_web_app_know_every_stage() {
+    use patchwork_core::inverse::StageName;
+    let names: Vec<String> = StageName::ALL
+        .iter()
+        .map(|s| {
+            serde_json::to_value(s)
+                .unwrap()
+                .as_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    assert_eq!(names.last().map(String::as_str), Some("final_refine"));
+    let openapi = include_str!("../../../openapi.yaml");
+    let schema = &openapi[openapi.find("    Stage:").expect("Stage schema")..];
+    assert_eq!(listed_after(schema, "enum: [", ']'), names);
+    let watch_js = include_str!("../../../web/static/js/watch.js");
+    let labels = &watch_js[watch_js.find("const STAGES = {").expect("STAGES")..];
+    let labels = &labels[..labels.find("};").unwrap()];
+    for name in names.iter().map(String::as_str).chain(["queued"]) {
+        assert!(
+            labels.contains(&format!("\n  {name}: \"")),
+            "no label for {name}"
+        );
+    }
+}

@@ -53,8 +53,9 @@ impl Backend {
 async fn submit(store: &Store, n: u32, owner: &str) -> String {
     let id = uuid::Uuid::now_v7().to_string();
     let request = format!("{{\"n\": {n}}}");
+    let spec = format!("{{\"spec\": {n}}}");
     let (row, event) = store
-        .insert_job(&id, owner, &request, None, (EventKind::Stage, "{}"))
+        .insert_job(&id, owner, &request, &spec, None, (EventKind::Stage, "{}"))
         .await
         .unwrap()
         .expect("a new job is inserted");
@@ -62,6 +63,7 @@ async fn submit(store: &Store, n: u32, owner: &str) -> String {
         (row.status, event.seq, event.kind),
         (JobStatus::Queued, 1, EventKind::Stage)
     );
+    assert_eq!((row.request, row.spec), (request, Some(spec)));
     id
 }
 
@@ -99,13 +101,27 @@ fn design_json() -> OutputFile {
 async fn jobs_are_owned_and_idempotent(store: Store) {
     let id = uuid::Uuid::now_v7().to_string();
     let first = store
-        .insert_job(&id, "lab", "{}", Some("key-1"), (EventKind::Stage, "{}"))
+        .insert_job(
+            &id,
+            "lab",
+            "{}",
+            "{}",
+            Some("key-1"),
+            (EventKind::Stage, "{}"),
+        )
         .await
         .unwrap();
     assert!(first.is_some());
     let other = uuid::Uuid::now_v7().to_string();
     let again = store
-        .insert_job(&other, "lab", "{}", Some("key-1"), (EventKind::Stage, "{}"))
+        .insert_job(
+            &other,
+            "lab",
+            "{}",
+            "{}",
+            Some("key-1"),
+            (EventKind::Stage, "{}"),
+        )
         .await
         .unwrap();
     assert!(again.is_none(), "a used idempotency key inserts nothing");
@@ -372,6 +388,26 @@ async fn an_exported_job_is_imported_once_and_numbers_on(store: Store, into: Sto
     assert!(into.finish(&done, "{}", &[], "{}").await.unwrap().is_some());
 }
 
+/// A job stored before job specs (imported without one) is listed until it
+/// gets one, and gets one once.
+async fn a_job_without_a_spec_gets_one_once(store: Store, into: Store) {
+    let id = submit(&store, 1, "lab").await;
+    let mut export = store.export_job(&id).await.unwrap().expect("the job");
+    assert_eq!(export.row.spec.as_deref(), Some("{\"spec\": 1}"));
+    export.row.spec = None;
+    assert!(into.import_job(&export).await.unwrap());
+    let claimed = claim(&into, LEASE).await;
+    assert_eq!(claimed.job.spec, None);
+    let missing = into.jobs_without_spec().await.unwrap();
+    assert_eq!(missing.iter().map(|r| &r.id).collect::<Vec<_>>(), [&id]);
+    assert!(store.jobs_without_spec().await.unwrap().is_empty());
+    assert!(into.set_spec(&id, "{\"spec\": 2}").await.unwrap());
+    assert!(!into.set_spec(&id, "{\"spec\": 3}").await.unwrap());
+    assert!(into.jobs_without_spec().await.unwrap().is_empty());
+    let row = into.job(&id, None).await.unwrap().expect("the job");
+    assert_eq!(row.spec.as_deref(), Some("{\"spec\": 2}"));
+}
+
 /// Every check against fresh stores of `backend`.
 async fn keeps_the_contract(backend: Backend) {
     jobs_are_owned_and_idempotent(backend.fresh().await).await;
@@ -383,6 +419,8 @@ async fn keeps_the_contract(backend: Backend) {
     orphans_of_a_one_node_store_are_queued_at_start(backend.fresh().await).await;
     let (from, into) = (backend.fresh().await, backend.fresh().await);
     an_exported_job_is_imported_once_and_numbers_on(from, into).await;
+    let (from, into) = (backend.fresh().await, backend.fresh().await);
+    a_job_without_a_spec_gets_one_once(from, into).await;
     assert!(backend.fresh().await.ping().await);
 }
 

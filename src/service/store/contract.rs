@@ -22,14 +22,15 @@ pub trait JobStore: JobTransfer + Send + Sync {
     /// Whether the database answers.
     async fn ping(&self) -> bool;
 
-    /// Inserts a queued job with its first event, at once (a worker never
-    /// sees the job without it); `None` when the owner already used
-    /// `idempotency_key`.
+    /// Inserts a queued job — the request as sent and its job spec — with
+    /// its first event, at once (a worker never sees the job without it);
+    /// `None` when the owner already used `idempotency_key`.
     async fn insert_job(
         &self,
         id: &str,
         owner: &str,
         request: &str,
+        spec: &str,
         idempotency_key: Option<&str>,
         event: (EventKind, &str),
     ) -> Result<Option<(JobRow, StoredEvent)>, sqlx::Error>;
@@ -100,6 +101,13 @@ pub trait JobStore: JobTransfer + Send + Sync {
         data: &str,
         fence: Option<i64>,
     ) -> Result<Option<StoredEvent>, sqlx::Error>;
+
+    /// Jobs stored before job specs (their `spec` is `None`), oldest first.
+    async fn jobs_without_spec(&self) -> Result<Vec<JobRow>, sqlx::Error>;
+
+    /// Stores the spec of a job stored without one; `false` when the job is
+    /// gone or already has one.
+    async fn set_spec(&self, id: &str, spec: &str) -> Result<bool, sqlx::Error>;
 
     /// The job's events after id `after`, in order.
     async fn events_after(&self, id: &str, after: i64) -> Result<Vec<StoredEvent>, sqlx::Error>;

@@ -23,6 +23,7 @@ pub struct ExportRow {
     #[sqlx(try_from = "String")]
     pub status: JobStatus,
     pub request: String,
+    pub spec: Option<String>,
     pub idempotency_key: Option<String>,
     pub created_at: String,
     pub updated_at: String,

@@ -27,6 +27,8 @@ use sqlx::FromRow;
 use super::job_state::{EventKind, JobStatus};
 
 pub use contract::JobStore;
+#[cfg(test)]
+pub use export::{ExportRow, JobExport};
 
 use postgres::PgStore;
 use sqlite::SqliteStore;
@@ -85,7 +87,11 @@ pub struct JobRow {
     pub id: String,
     #[sqlx(try_from = "String")]
     pub status: JobStatus,
+    /// The request as the client sent it.
     pub request: String,
+    /// The job as the worker runs it (`spec.rs`); `None` for a job stored
+    /// before specs, until the next start derives it.
+    pub spec: Option<String>,
     pub created_at: String,
     pub updated_at: String,
     pub progress: Option<String>,
@@ -111,7 +117,7 @@ pub struct Iteration {
     pub elapsed_s: f64,
 }
 
-const JOB_COLUMNS: &str = "id, status, request, created_at, updated_at, progress, error";
+const JOB_COLUMNS: &str = "id, status, request, spec, created_at, updated_at, progress, error";
 
 /// Now, as fixed-width RFC 3339 UTC (sorts as text).
 pub fn now() -> String {

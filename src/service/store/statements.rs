@@ -38,12 +38,14 @@ macro_rules! job_store {
             id: &str,
             owner: &str,
             request: &str,
+            spec: &str,
             idempotency_key: Option<&str>,
             event: (EventKind, &str),
         ) -> Result<Option<(JobRow, StoredEvent)>, sqlx::Error> {
             let sql = format!(
-                "INSERT INTO jobs (id, owner, status, request, idempotency_key, created_at, updated_at)
-                 VALUES ($1, $2, 'queued', $3, $4, $5, $5)
+                "INSERT INTO jobs (id, owner, status, request, spec, idempotency_key, created_at,
+                                   updated_at)
+                 VALUES ($1, $2, 'queued', $3, $4, $5, $6, $6)
                  ON CONFLICT DO NOTHING RETURNING {JOB_COLUMNS}"
             );
             let mut tx = self.pool.begin().await?;
@@ -51,6 +53,7 @@ macro_rules! job_store {
                 .bind(id)
                 .bind(owner)
                 .bind(request)
+                .bind(spec)
                 .bind(idempotency_key)
                 .bind(now())
                 .fetch_optional(&mut *tx)
@@ -238,6 +241,20 @@ macro_rules! job_store {
             let stored = <$store as Dialect>::insert_event(&mut *tx, id, (kind, data), fence).await?;
             tx.commit().await?;
             Ok(stored)
+        }
+
+        async fn jobs_without_spec(&self) -> Result<Vec<JobRow>, sqlx::Error> {
+            let sql = format!("SELECT {JOB_COLUMNS} FROM jobs WHERE spec IS NULL ORDER BY id");
+            sqlx::query_as(&sql).fetch_all(&self.pool).await
+        }
+
+        async fn set_spec(&self, id: &str, spec: &str) -> Result<bool, sqlx::Error> {
+            let done = sqlx::query("UPDATE jobs SET spec = $2 WHERE id = $1 AND spec IS NULL")
+                .bind(id)
+                .bind(spec)
+                .execute(&self.pool)
+                .await?;
+            Ok(done.rows_affected() == 1)
         }
 
         async fn events_after(

@@ -30,7 +30,7 @@ macro_rules! job_transfer {
             id: &str,
         ) -> Result<Option<JobExport>, sqlx::Error> {
             let row: Option<ExportRow> = sqlx::query_as(
-                "SELECT id, owner, status, request, idempotency_key, created_at, updated_at,
+                "SELECT id, owner, status, request, spec, idempotency_key, created_at, updated_at,
                         progress, error, checkpoint, result, attempt, checkpoint_evaluations
                  FROM jobs WHERE id = $1",
             )
@@ -92,16 +92,17 @@ macro_rules! job_transfer {
                 other => other,
             };
             let inserted = sqlx::query(
-                "INSERT INTO jobs (id, owner, status, request, idempotency_key, created_at,
+                "INSERT INTO jobs (id, owner, status, request, spec, idempotency_key, created_at,
                                    updated_at, progress, error, checkpoint, result, attempt,
                                    checkpoint_evaluations)
-                 VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13)
+                 VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14)
                  ON CONFLICT DO NOTHING",
             )
             .bind(&r.id)
             .bind(&r.owner)
             .bind(status.as_str())
             .bind(&r.request)
+            .bind(&r.spec)
             .bind(&r.idempotency_key)
             .bind(&r.created_at)
             .bind(&r.updated_at)

@@ -8,7 +8,7 @@ use std::future::Future;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
-use patchwork_core::fabrication::design_files;
+use patchwork_core::fabrication::{design_files, design_json};
 use patchwork_core::inverse::{DesignOutcome, DesignReport, DesignRunError};
 use serde_json::json;
 
@@ -56,15 +56,11 @@ pub(super) async fn conclude(
 /// Stores the result, its files and the `done` event, and marks the job
 /// succeeded.
 async fn succeed(state: &AppState, lease: &Lease, report: &DesignReport) {
-    let files = match design_files(report) {
-        Ok(files) => files,
+    let written = design_json(report).and_then(|json| Ok((json, design_files(report)?)));
+    let (result, files) = match written {
+        Ok(written) => written,
         Err(e) => return fail(state, lease, &format!("writing the result files: {e}")).await,
     };
-    let result = files
-        .iter()
-        .find(|f| f.name == "design.json")
-        .map(|f| String::from_utf8_lossy(&f.body).into_owned())
-        .unwrap_or_default();
     let m = &report.metrics;
     let done = json!({
         "result": format!("/v1/jobs/{}/result", lease.id),

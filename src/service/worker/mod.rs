@@ -15,7 +15,7 @@ use patchwork_core::inverse::{DesignCheckpoint, design_resumable};
 use tokio::sync::mpsc;
 use tracing::Instrument;
 
-use super::request::JobRequest;
+use super::spec::JobSpec;
 use super::state::{AppState, JobControl, StopReason};
 use super::store::{Claim, Lease, Renewal};
 use ending::fail;
@@ -61,6 +61,10 @@ async fn worker(state: AppState, n: usize) {
     }
 }
 
+/// A job stored without its spec (every job gets one when it is submitted,
+/// and jobs stored before specs get theirs at the next start).
+const MISSING_SPEC: &str = "the job was stored without a job spec; submit it again";
+
 async fn run_job(state: &AppState, claim: Claim) {
     let Claim {
         job,
@@ -69,13 +73,11 @@ async fn run_job(state: &AppState, claim: Claim) {
         ..
     } = claim;
     let id = job.id.clone();
-    let request: JobRequest = match serde_json::from_str(&job.request) {
-        Ok(r) => r,
-        Err(e) => return fail(state, &lease, &format!("stored request unreadable: {e}")).await,
-    };
-    let prepared = match request.prepare() {
-        Ok(p) => p,
-        Err(p) => return fail(state, &lease, &p.detail).await,
+    let spec = match job.spec.as_deref().map(JobSpec::from_stored) {
+        // Each kind of job runs its own way; a design is the only kind.
+        Some(Ok(JobSpec::Design(design))) => design,
+        Some(Err(e)) => return fail(state, &lease, &e.to_string()).await,
+        None => return fail(state, &lease, MISSING_SPEC).await,
     };
     let resume = checkpoint.and_then(|text| readable_checkpoint(&text));
     let earlier = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
@@ -102,7 +104,7 @@ async fn run_job(state: &AppState, claim: Claim) {
     };
     let renewals = tokio::spawn(hold(state.clone(), lease.clone(), control.clone()));
     let (tx, rx) = mpsc::unbounded_channel();
-    let seed = prepared.plan.settings().seed;
+    let seed = spec.plan().settings().seed;
     let span = tracing::Span::current();
     let caches = state.caches.clone();
     let compute = {
@@ -110,8 +112,8 @@ async fn run_job(state: &AppState, claim: Claim) {
         tokio::task::spawn_blocking(move || {
             let _entered = span.enter();
             design_resumable(
-                &prepared.target,
-                &prepared.plan,
+                spec.target(),
+                spec.plan(),
                 resume,
                 &caches,
                 &control.cancel,

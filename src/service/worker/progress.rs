@@ -1,13 +1,13 @@
 //! What a running design reports, carried from its blocking thread to the
 //! async side in order, and written there: progress (with the generation's
-//! row), stage changes, checkpoints and the reach report, each fenced by the
+//! row), the stages as they begin, checkpoints and the reach report, each fenced by the
 //! worker's attempt. A write the database refuses is logged and skipped: the
 //! run goes on, and the next progress or checkpoint replaces it.
 
 use std::sync::atomic::Ordering;
 
 use patchwork_core::inverse::reach::ReachReport;
-use patchwork_core::inverse::{DesignCheckpoint, DesignProgress, Observer, Stage};
+use patchwork_core::inverse::{DesignCheckpoint, DesignProgress, Observer, StageName};
 use serde_json::json;
 use tokio::sync::mpsc;
 
@@ -17,6 +17,8 @@ use crate::service::store::{Iteration, Lease};
 
 /// What the blocking pipeline tells the async side, in order.
 pub(super) enum Message {
+    /// A stage begins.
+    Stage(DesignProgress),
     Progress(DesignProgress),
     /// A checkpoint, as JSON, and the evaluations it was taken after.
     Checkpoint(String, usize),
@@ -31,6 +33,10 @@ pub(super) struct ChannelObserver(pub(super) mpsc::UnboundedSender<Message>);
 impl Observer for ChannelObserver {
     fn progress(&mut self, progress: &DesignProgress) {
         let _ = self.0.send(Message::Progress(*progress));
+    }
+
+    fn stage(&mut self, progress: &DesignProgress) {
+        let _ = self.0.send(Message::Stage(*progress));
     }
 
     fn checkpoint(&mut self, checkpoint: &DesignCheckpoint) {
@@ -56,16 +62,9 @@ pub(super) async fn record_all(
     mut messages: mpsc::UnboundedReceiver<Message>,
     resumed_evaluations: usize,
 ) {
-    let mut last_stage = None;
     let mut last_evaluations = resumed_evaluations;
     while let Some(message) = messages.recv().await {
-        let recorded = record(
-            state,
-            lease,
-            message,
-            &mut last_stage,
-            &mut last_evaluations,
-        );
+        let recorded = record(state, lease, message, &mut last_evaluations);
         if let Err(e) = recorded.await {
             tracing::error!("recording progress: {e}");
         }
@@ -76,7 +75,6 @@ async fn record(
     state: &AppState,
     lease: &Lease,
     message: Message,
-    last_stage: &mut Option<Stage>,
     last_evaluations: &mut usize,
 ) -> Result<(), sqlx::Error> {
     let (id, fence) = (lease.id.as_str(), Some(lease.attempt));
@@ -88,16 +86,21 @@ async fn record(
                 .await
         }
         Message::Reach(report) => state.emit(id, EventKind::Reach, &report, fence).await,
+        // The stage's event, and the job's progress at its start.
+        Message::Stage(p) => {
+            state
+                .emit(id, EventKind::Stage, &json!({"stage": p.stage}), fence)
+                .await?;
+            let progress = serde_json::to_value(p).unwrap_or_default();
+            state
+                .store
+                .record_progress(lease, &progress.to_string(), None)
+                .await
+        }
         Message::Progress(p) => {
-            if *last_stage != Some(p.stage) {
-                *last_stage = Some(p.stage);
-                state
-                    .emit(id, EventKind::Stage, &json!({"stage": p.stage}), fence)
-                    .await?;
-            }
             // A NaN objective (before the seed is evaluated) serialises as null.
             let progress = serde_json::to_value(p).unwrap_or_default();
-            let iteration = (p.stage == Stage::Search).then_some(Iteration {
+            let iteration = (p.stage == StageName::Search).then_some(Iteration {
                 evaluations: p.evaluations as i64,
                 generation: p.generation as i64,
                 best_objective: p.best_objective,
@@ -113,7 +116,7 @@ async fn record(
                 .store
                 .record_progress(lease, &progress.to_string(), iteration.as_ref())
                 .await?;
-            if p.stage == Stage::Search {
+            if p.stage == StageName::Search {
                 state
                     .emit(id, EventKind::Progress, &progress, fence)
                     .await?;

@@ -16,7 +16,10 @@ const STAGES = {
   search: "search: CMA-ES on the model",
   polish: "polish: CMA-ES on the verification model",
   verify: "verify: the design on the verification model",
+  length: "length: the balloon length matched to the curve's",
   refine: "refine: Levenberg–Marquardt on the shape error",
+  layout: "layout: patches added where the curve bends gently, or taken out",
+  final_refine: "final refine: the refine on the finest model",
 };
 
 const running = (job) => job.status === "queued" || job.status === "running";

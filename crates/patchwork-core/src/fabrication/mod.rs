@@ -38,6 +38,13 @@ pub struct OutputFile {
     pub body: Vec<u8>,
 }
 
+/// design.json: the design report, pretty-printed, with a final newline.
+pub fn design_json(report: &crate::inverse::DesignReport) -> Result<String, String> {
+    let mut json = serde_json::to_string_pretty(report).map_err(|e| e.to_string())?;
+    json.push('\n');
+    Ok(json)
+}
+
 /// Every file of a design run, as the CLI writes them to `--out` and the API
 /// serves them: design.json, design.csv, patches.dxf, template.dxf,
 /// template.svg, profiles.svg.
@@ -47,8 +54,7 @@ pub fn design_files(report: &crate::inverse::DesignReport) -> Result<Vec<OutputF
         content_type,
         body,
     };
-    let mut json = serde_json::to_string_pretty(report).map_err(|e| e.to_string())?;
-    json.push('\n');
+    let json = design_json(report)?;
     let profiles = profiles_svg(&report.profiles, report.target_length_mm);
     Ok(vec![
         file("design.json", "application/json", json.into_bytes()),

@@ -1,6 +1,7 @@
 //! The executor: runs a plan's stages in order on one run and one context
-//! (cancel flag, clock, observer), then assembles the outcome from the
-//! verified simulation.
+//! (cancel flag, clock, observer), announcing each to the observer by its
+//! name as it begins, then assembles the outcome from the verified
+//! simulation.
 
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
@@ -11,7 +12,7 @@ use super::checkpoint::DesignCheckpoint;
 use super::errors::DesignRunError;
 use super::input::prepare;
 use super::limits::at_limits;
-use super::outcome::{DesignOutcome, DesignProgress, SearchEnd};
+use super::outcome::{DesignOutcome, DesignProgress, SearchEnd, StageName};
 use super::plan::Plan;
 use super::run::{Context, Observer, Run, Setup};
 use super::shortfall::{RunFacts, shortfalls};
@@ -49,10 +50,19 @@ pub fn design_resumable(
     let (target, input) = prepare(given, plan.settings().smoothing, plan.tuning().kappa_tol)
         .map_err(DesignRunError::Input)?;
     let setup = Setup::new(&target, input, plan.settings(), plan.tuning());
+    let (evaluations, best) = resume
+        .as_ref()
+        .map_or((0, f64::NAN), |c| (c.evaluations, c.best_objective));
+    ctx.entering(StageName::Seed, evaluations, best);
     let mut run = plan.seed().run(setup, resume, &mut ctx)?;
     for stage in plan.stages() {
         ctx.check_cancelled()?;
-        stage.stage().run(&mut run, &mut ctx)?;
+        ctx.entering(
+            stage.name(),
+            run.state.evaluations,
+            run.state.best_objective,
+        );
+        stage.run(&mut run, &mut ctx)?;
     }
     outcome(run, given, &ctx)
 }

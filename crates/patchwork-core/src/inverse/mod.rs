@@ -4,10 +4,13 @@
 //! (`tuning.rs`), and run by the executor (`executor.rs`):
 //!
 //! ```text
-//! seed → reach → search → polish → verify → length → refine (± correction) → final refine
+//! seed → reach → search → polish → verify → length → refine (± correction)
+//!      → layout → final refine
 //! ```
 //!
-//! Each stage is a small type in `stages/`. The numerical pieces they use:
+//! Each stage is a small type in `stages/`, a [`Stage`] of the plan, known
+//! everywhere by its [`StageName`]; the executor announces each as it
+//! begins (`Observer::stage`). The numerical pieces they use:
 //! the design variables and their bounds (`variables.rs`), the objective
 //! (`objective.rs`), CMA-ES's incumbent (`incumbent.rs`), the
 //! Levenberg–Marquardt refine (`refine.rs`) and its correction by a finer
@@ -50,12 +53,12 @@ pub use limits::AtLimit;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use outcome::{
     AsGiven, DesignOutcome, DesignProgress, Metrics, Profiles, RefineSummary, SearchEnd,
-    SearchStop, Stage,
+    SearchStop, StageName,
 };
-pub use plan::{Plan, PlannedStage};
+pub use plan::{Plan, Stage};
 pub use presets::{Fidelity, PRESETS, PresetRow};
 pub use report::DesignReport;
 pub use run::Observer;
 pub use settings::UserSettings;
-pub use tuning::{FinalRefine, INITIAL_STEP, Start, Tuning, TuningOverrides};
+pub use tuning::{FinalRefineSettings, INITIAL_STEP, Start, Tuning, TuningOverrides};
 pub use variables::{DesignSpace, Freedom, VariableBounds};

@@ -14,25 +14,66 @@ use crate::design::Design;
 use crate::fe::Simulation;
 use crate::fe::mesh::MeshSpec;
 
-/// The stages as reported to observers.
+/// A stage's name: the one the plan lists it by (`Stage::name`), the
+/// executor announces it by, and progress reports carry. Serialised in
+/// snake case: `final_refine`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Stage {
+pub enum StageName {
+    /// KSA's patches and the balloon length they are placed on.
     Seed,
     /// What one patch makes within the bounds, against the target.
     Reach,
+    /// CMA-ES on the search model.
     Search,
     /// The coarse-to-fine polish on the verification model.
     Polish,
+    /// The design simulated on the verification model.
     Verify,
-    /// Levenberg–Marquardt on the shape error (the final refine's included).
+    /// The balloon length corrected to the target's.
+    Length,
+    /// Levenberg–Marquardt on the shape error.
     Refine,
+    /// Patches added where the target bends gently, refined alike.
+    Layout,
+    /// The refine once more on the finest model.
+    FinalRefine,
+}
+
+impl StageName {
+    /// Every stage, in the order a plan takes them.
+    pub const ALL: [StageName; 9] = [
+        StageName::Seed,
+        StageName::Reach,
+        StageName::Search,
+        StageName::Polish,
+        StageName::Verify,
+        StageName::Length,
+        StageName::Refine,
+        StageName::Layout,
+        StageName::FinalRefine,
+    ];
+
+    /// As written in plans and progress lines: `final refine`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            StageName::Seed => "seed",
+            StageName::Reach => "reach",
+            StageName::Search => "search",
+            StageName::Polish => "polish",
+            StageName::Verify => "verify",
+            StageName::Length => "length",
+            StageName::Refine => "refine",
+            StageName::Layout => "layout",
+            StageName::FinalRefine => "final refine",
+        }
+    }
 }
 
 /// Progress reported to the observer.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct DesignProgress {
-    pub stage: Stage,
+    pub stage: StageName,
     pub generation: usize,
     pub evaluations: usize,
     pub best_objective: f64,

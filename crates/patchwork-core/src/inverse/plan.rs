@@ -10,52 +10,57 @@
 //!      → layout (a finer layout, refined alike) → final refine
 //! ```
 
+use super::errors::DesignRunError;
 use super::errors::SettingsError;
 use super::input::Smoothing;
+use super::outcome::StageName;
+use super::run::{Context, Run};
 use super::settings::UserSettings;
-use super::stages::{
-    FinalRefineStage, Layout, LengthCorrection, Polish, Reach, Refine, RunStage, Search, Seed,
-    Verify,
-};
+use super::stages::{FinalRefine, Layout, Length, Polish, Reach, Refine, Search, Seed, Verify};
 use super::tuning::{Tuning, TuningOverrides};
 
 /// One stage after the seed, with its own budget.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum PlannedStage {
+pub enum Stage {
     Reach(Reach),
     Search(Search),
     Polish(Polish),
     Verify(Verify),
-    Length(LengthCorrection),
+    Length(Length),
     Refine(Refine),
     Layout(Layout),
-    FinalRefine(FinalRefineStage),
+    FinalRefine(FinalRefine),
 }
 
-impl PlannedStage {
-    pub fn name(&self) -> &'static str {
+impl Stage {
+    pub fn name(&self) -> StageName {
         match self {
-            PlannedStage::Reach(_) => "reach",
-            PlannedStage::Search(_) => "search",
-            PlannedStage::Polish(_) => "polish",
-            PlannedStage::Verify(_) => "verify",
-            PlannedStage::Length(_) => "length",
-            PlannedStage::Refine(_) => "refine",
-            PlannedStage::Layout(_) => "layout",
-            PlannedStage::FinalRefine(_) => "final refine",
+            Stage::Reach(_) => StageName::Reach,
+            Stage::Search(_) => StageName::Search,
+            Stage::Polish(_) => StageName::Polish,
+            Stage::Verify(_) => StageName::Verify,
+            Stage::Length(_) => StageName::Length,
+            Stage::Refine(_) => StageName::Refine,
+            Stage::Layout(_) => StageName::Layout,
+            Stage::FinalRefine(_) => StageName::FinalRefine,
         }
     }
 
-    pub(super) fn stage(&self) -> &dyn RunStage {
+    /// Runs the stage on `run`, leaving its result there.
+    pub(super) fn run(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+    ) -> Result<(), DesignRunError> {
         match self {
-            PlannedStage::Reach(stage) => stage,
-            PlannedStage::Search(stage) => stage,
-            PlannedStage::Polish(stage) => stage,
-            PlannedStage::Verify(stage) => stage,
-            PlannedStage::Length(stage) => stage,
-            PlannedStage::Refine(stage) => stage,
-            PlannedStage::Layout(stage) => stage,
-            PlannedStage::FinalRefine(stage) => stage,
+            Stage::Reach(stage) => stage.run(run, ctx),
+            Stage::Search(stage) => stage.run(run, ctx),
+            Stage::Polish(stage) => stage.run(run, ctx),
+            Stage::Verify(stage) => stage.run(run, ctx),
+            Stage::Length(stage) => stage.run(run, ctx),
+            Stage::Refine(stage) => stage.run(run, ctx),
+            Stage::Layout(stage) => stage.run(run, ctx),
+            Stage::FinalRefine(stage) => stage.run(run, ctx),
         }
     }
 }
@@ -67,7 +72,7 @@ pub struct Plan {
     settings: UserSettings,
     tuning: Tuning,
     seed: Seed,
-    stages: Vec<PlannedStage>,
+    stages: Vec<Stage>,
 }
 
 impl Plan {
@@ -125,7 +130,7 @@ impl Plan {
     }
 
     /// The stages after the seed, in order.
-    pub fn stages(&self) -> &[PlannedStage] {
+    pub fn stages(&self) -> &[Stage] {
         &self.stages
     }
 
@@ -139,10 +144,11 @@ impl Plan {
         self.search_budget() + self.tuning.polish_budget + self.tuning.refine_budget
     }
 
-    /// The stage names, seed first: `seed → search → verify → …`.
+    /// The stage names, seed first: `seed → reach → search → verify → …`.
     pub fn describe(&self) -> String {
-        std::iter::once("seed")
-            .chain(self.stages.iter().map(PlannedStage::name))
+        std::iter::once(StageName::Seed)
+            .chain(self.stages.iter().map(Stage::name))
+            .map(StageName::as_str)
             .collect::<Vec<_>>()
             .join(" → ")
     }
@@ -151,24 +157,24 @@ impl Plan {
 /// The stages of `tuning`, each with its budget. The refine on the
 /// verification model spends at most the final refine's staging solves
 /// when there is one, and the final refine the rest.
-fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<PlannedStage> {
-    let mut stages = vec![PlannedStage::Reach(Reach)];
+fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<Stage> {
+    let mut stages = vec![Stage::Reach(Reach)];
     let budget = settings.budget.unwrap_or(tuning.search_budget);
     if budget > 1 {
-        stages.push(PlannedStage::Search(Search {
+        stages.push(Stage::Search(Search {
             budget,
             patience: tuning.search_patience,
             initial_step: tuning.initial_step,
         }));
     }
     if tuning.polish_budget > 1 {
-        stages.push(PlannedStage::Polish(Polish {
+        stages.push(Stage::Polish(Polish {
             budget: tuning.polish_budget,
         }));
     }
-    stages.push(PlannedStage::Verify(Verify));
+    stages.push(Stage::Verify(Verify));
     if !settings.fix_length {
-        stages.push(PlannedStage::Length(LengthCorrection));
+        stages.push(Stage::Length(Length));
     }
     let refine_solves = match tuning.final_refine {
         Some(last) => tuning.refine_budget.min(last.staging_solves),
@@ -179,13 +185,13 @@ fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<PlannedStage> {
             solves: refine_solves,
             correction: tuning.correction_mesh,
         };
-        stages.push(PlannedStage::Refine(refine));
+        stages.push(Stage::Refine(refine));
         if tuning.gentle_bends {
-            stages.push(PlannedStage::Layout(Layout { refine }));
+            stages.push(Stage::Layout(Layout { refine }));
         }
     }
     if let Some(refine) = tuning.final_refine {
-        stages.push(PlannedStage::FinalRefine(FinalRefineStage {
+        stages.push(Stage::FinalRefine(FinalRefine {
             refine,
             shared_solves: tuning.refine_budget,
         }));

@@ -13,7 +13,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use super::tuning::{FinalRefine, Tuning};
+use super::tuning::{FinalRefineSettings, Tuning};
 use crate::fe::mesh::MeshSpec;
 use crate::fe::newton::NewtonOptions;
 
@@ -164,7 +164,7 @@ impl Fidelity {
             verify_mesh: row.verify_mesh.mesh(radius_mm),
             refine_budget: row.refine_budget,
             correction_mesh: row.correction_mesh.map(|m| m.mesh(radius_mm)),
-            final_refine: row.final_refine_mesh.map(|m| FinalRefine {
+            final_refine: row.final_refine_mesh.map(|m| FinalRefineSettings {
                 mesh: m.mesh(radius_mm),
                 staging_solves: FINAL_REFINE_STAGING,
                 newton: NewtonOptions::default(),

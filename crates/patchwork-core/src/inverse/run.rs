@@ -13,7 +13,7 @@ use super::errors::DesignRunError;
 use super::input::InputReport;
 use super::layout::LayoutTrial;
 use super::objective::TargetProfiles;
-use super::outcome::{DesignProgress, RefineSummary, SearchEnd, Stage};
+use super::outcome::{DesignProgress, RefineSummary, SearchEnd, StageName};
 use super::planar::flattened;
 use super::reach::ReachReport;
 use super::settings::UserSettings;
@@ -31,6 +31,13 @@ use crate::fe::{SimulateOptions, Simulation};
 /// observer that hears only the progress.
 pub trait Observer {
     fn progress(&mut self, progress: &DesignProgress);
+
+    /// A stage begins (`progress.stage`), with the run's evaluations and
+    /// best objective so far; the executor announces every stage of the
+    /// plan, the seed first. By default, a progress report.
+    fn stage(&mut self, progress: &DesignProgress) {
+        self.progress(progress);
+    }
 
     fn checkpoint(&mut self, checkpoint: &DesignCheckpoint) {
         let _ = checkpoint;
@@ -95,7 +102,7 @@ impl<'a> Context<'a> {
 
     pub fn report(
         &mut self,
-        stage: Stage,
+        stage: StageName,
         generation: usize,
         evaluations: usize,
         best_objective: f64,
@@ -112,10 +119,18 @@ impl<'a> Context<'a> {
         self.observer.progress(&progress);
     }
 
-    /// Reports the start of a stage that has no steps of its own to report,
-    /// with the run's evaluations and best objective so far.
-    pub fn entering(&mut self, stage: Stage, state: &DesignCheckpoint) {
-        self.report(stage, 0, state.evaluations, state.best_objective, 0.0);
+    /// Announces the start of `stage`, after `evaluations` with the best
+    /// objective so far (the executor's, before each stage).
+    pub(super) fn entering(&mut self, stage: StageName, evaluations: usize, best_objective: f64) {
+        let progress = DesignProgress {
+            stage,
+            generation: 0,
+            evaluations,
+            best_objective,
+            sigma: 0.0,
+            elapsed_s: self.elapsed_s(),
+        };
+        self.observer.stage(&progress);
     }
 
     /// Hands the reach report to the observer.

@@ -66,7 +66,7 @@ pub struct Tuning {
     pub correction_mesh: Option<MeshSpec>,
     /// A last refine on a finer model still, from the refine's result (and
     /// its Jacobian), on which the design is then verified.
-    pub final_refine: Option<FinalRefine>,
+    pub final_refine: Option<FinalRefineSettings>,
 }
 
 impl Default for Tuning {
@@ -113,7 +113,7 @@ impl Tuning {
 /// refine's result, the run does not fail: the refine's result stands,
 /// verified on its own model, and the outcome says why.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FinalRefine {
+pub struct FinalRefineSettings {
     pub mesh: MeshSpec,
     pub staging_solves: usize,
     pub newton: NewtonOptions,

@@ -5,24 +5,27 @@
 //! verified on its own model, and the outcome says why.
 
 use super::super::errors::DesignRunError;
-use super::super::outcome::Stage;
+use super::super::outcome::StageName;
 use super::super::refine::RefineProblem;
 use super::super::run::{Context, Run};
-use super::super::tuning::FinalRefine;
-use super::RunStage;
+use super::super::tuning::FinalRefineSettings;
 use super::refine::refine_problem;
 use crate::fe::{SimulateOptions, Simulation};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FinalRefineStage {
-    pub refine: FinalRefine,
+pub struct FinalRefine {
+    pub refine: FinalRefineSettings,
     /// Solves of the refine and this stage together.
     pub shared_solves: usize,
 }
 
-impl RunStage for FinalRefineStage {
-    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
-        let FinalRefine { mesh, newton, .. } = self.refine;
+impl FinalRefine {
+    pub(in super::super) fn run(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+    ) -> Result<(), DesignRunError> {
+        let FinalRefineSettings { mesh, newton, .. } = self.refine;
         let finest = SimulateOptions {
             newton,
             ..run.setup.tuning.model(mesh)
@@ -61,7 +64,13 @@ impl RunStage for FinalRefineStage {
         let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);
         let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
             let best = profiles.objective(&simulation.centreline, objective);
-            ctx.report(Stage::Refine, iteration, spent + evaluations, best, 0.0)
+            ctx.report(
+                StageName::FinalRefine,
+                iteration,
+                spent + evaluations,
+                best,
+                0.0,
+            )
         };
         let refined = problem.refine(
             run.design.clone(),

@@ -15,10 +15,10 @@
 
 use super::super::errors::DesignRunError;
 use super::super::layout::{LayoutTrial, thinned, with_gentle_bends};
+use super::super::outcome::StageName;
 use super::super::planar::flattened;
 use super::super::run::{Context, Run};
 use super::super::shortfall::HIGH_ERROR_PERCENT;
-use super::RunStage;
 use super::refine::Refine;
 use super::seed::ksa_params;
 use crate::curve::shape_error;
@@ -60,8 +60,12 @@ struct Tried {
     error: f64,
 }
 
-impl RunStage for Layout {
-    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+impl Layout {
+    pub(in super::super) fn run(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+    ) -> Result<(), DesignRunError> {
         let current = run.take_verified("layout")?;
         let mut error = error_of(run, &current);
         run.verified = Some(current);
@@ -146,9 +150,10 @@ impl Layout {
         };
         run.state.evaluations += 1;
         let freedom = run.setup.freedom_for(candidate.planar);
+        let start = (candidate.design, start);
         let (refined, solves) =
             self.refine
-                .refine_from(run, ctx, candidate.design, start, freedom)?;
+                .refine_from(run, ctx, start, freedom, StageName::Layout)?;
         run.state.evaluations += solves;
         let simulation = match self.refine.verified_on(run, &refined) == run.verified_on {
             true => Some(refined.simulation),

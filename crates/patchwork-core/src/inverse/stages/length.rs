@@ -6,16 +6,19 @@
 
 use super::super::errors::DesignRunError;
 use super::super::run::{Context, Run};
-use super::RunStage;
 
 /// Relative mismatch of inflated and target length left uncorrected.
 const LENGTH_TOLERANCE: f64 = 1e-3;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LengthCorrection;
+pub struct Length;
 
-impl RunStage for LengthCorrection {
-    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+impl Length {
+    pub(in super::super) fn run(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+    ) -> Result<(), DesignRunError> {
         let simulation = run.take_verified("length correction")?;
         let ratio = run.setup.target.length() / simulation.inflated_length_mm;
         run.verified = Some(simulation);

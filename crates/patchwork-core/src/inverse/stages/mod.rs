@@ -1,8 +1,12 @@
 //! The stages of a design run, one small type each with its own budget.
-//! The seed stage creates the run; every later stage implements
-//! [`RunStage`]: it reads what it needs from the [`Run`] and leaves its
-//! result there. A new stage is a new file here, a variant of
-//! `plan::PlannedStage`, and a line in `Plan::with_tuning` where it goes.
+//! The seed stage creates the run; every later stage has a `run` that
+//! reads what it needs from the run (`run.rs`) and leaves its result there.
+//!
+//! A new stage is: a file here with its type and `run`; a variant of
+//! [`Stage`](super::Stage) holding it, with its [`StageName`](super::StageName)
+//! in `Stage::name` and its call in `Stage::run` (the compiler asks for both);
+//! and a line in `plan::stages` where the plan takes it. The executor
+//! announces it by its name.
 
 mod final_refine;
 mod layout;
@@ -14,20 +18,12 @@ mod search;
 mod seed;
 mod verify;
 
-pub use final_refine::FinalRefineStage;
+pub use final_refine::FinalRefine;
 pub use layout::Layout;
-pub use length::LengthCorrection;
+pub use length::Length;
 pub use polish::Polish;
 pub use reach::Reach;
 pub use refine::Refine;
 pub use search::Search;
 pub use seed::Seed;
 pub use verify::Verify;
-
-use super::errors::DesignRunError;
-use super::run::{Context, Run};
-
-/// One stage after the seed.
-pub trait RunStage {
-    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError>;
-}

@@ -9,9 +9,8 @@ use std::sync::atomic::Ordering;
 
 use super::super::errors::DesignRunError;
 use super::super::incumbent::{Incumbent, Scorer, unit_cube_options};
-use super::super::outcome::Stage;
+use super::super::outcome::StageName;
 use super::super::run::{Context, Run};
-use super::RunStage;
 use crate::cmaes::Optimizer;
 use crate::design::{Design, Patch};
 use crate::fe::Simulation;
@@ -24,8 +23,12 @@ pub struct Polish {
     pub budget: usize,
 }
 
-impl RunStage for Polish {
-    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+impl Polish {
+    pub(in super::super) fn run(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+    ) -> Result<(), DesignRunError> {
         if run.space.dimension() == 0 || self.budget <= 1 {
             return Ok(());
         }
@@ -52,7 +55,13 @@ impl RunStage for Polish {
             run.setup.settings.seed.wrapping_add(1),
             run.setup.settings.threads,
             &mut |generation, evaluations, best, sigma| {
-                ctx.report(Stage::Polish, generation, spent + evaluations, best, sigma)
+                ctx.report(
+                    StageName::Polish,
+                    generation,
+                    spent + evaluations,
+                    best,
+                    sigma,
+                )
             },
         )?;
         run.design.patches = polished.patches;

@@ -4,17 +4,18 @@
 //! goes to the observer before the search starts.
 
 use super::super::errors::DesignRunError;
-use super::super::outcome::Stage;
 use super::super::reach::{ReachTable, WindowLengths, judge};
 use super::super::run::{Context, Run};
-use super::RunStage;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Reach;
 
-impl RunStage for Reach {
-    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
-        ctx.entering(Stage::Reach, &run.state);
+impl Reach {
+    pub(in super::super) fn run(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+    ) -> Result<(), DesignRunError> {
         let setup = &run.setup;
         let bounds = &setup.settings.bounds;
         let table = ReachTable::compute(

@@ -8,11 +8,10 @@ use std::sync::atomic::AtomicBool;
 use super::super::caches::Caches;
 use super::super::correction::refine_corrected;
 use super::super::errors::DesignRunError;
-use super::super::outcome::{RefineSummary, Stage};
+use super::super::outcome::{RefineSummary, StageName};
 use super::super::refine::{RefineProblem, Refined};
 use super::super::run::{Context, Run};
 use super::super::variables::Freedom;
-use super::RunStage;
 use crate::design::Design;
 use crate::fe::Simulation;
 use crate::fe::mesh::MeshSpec;
@@ -25,15 +24,20 @@ pub struct Refine {
     pub correction: Option<MeshSpec>,
 }
 
-impl RunStage for Refine {
-    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+impl Refine {
+    pub(in super::super) fn run(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+    ) -> Result<(), DesignRunError> {
         if run.space.dimension() == 0 || self.solves == 0 {
             return Ok(());
         }
         let simulation = run.take_verified("refine")?;
         let design = run.design.clone();
         let freedom = run.setup.freedom();
-        let (refined, solves) = self.refine_from(run, ctx, design, simulation, freedom)?;
+        let start = (design, simulation);
+        let (refined, solves) = self.refine_from(run, ctx, start, freedom, StageName::Refine)?;
         let verified_on = self.verified_on(run, &refined);
         run.verified_on = verified_on;
         run.design = refined.design;
@@ -47,7 +51,8 @@ impl RunStage for Refine {
 
 impl Refine {
     /// The refine from `design` (simulated on the verification model as
-    /// `simulation`) with `freedom`, and the solves it spent. A design beyond a
+    /// `simulation`) with `freedom`, and the solves it spent; its progress is
+    /// reported as `stage`'s. A design beyond a
     /// fabrication limit (KSA's one long patch, without trains) is brought
     /// within the limits first, so that every design the refine compares,
     /// its start included, is one that can be made.
@@ -55,9 +60,9 @@ impl Refine {
         &self,
         run: &Run<'_>,
         ctx: &mut Context<'_>,
-        mut design: Design,
-        mut simulation: Simulation,
+        (mut design, mut simulation): (Design, Simulation),
         freedom: Freedom,
+        stage: StageName,
     ) -> Result<(Refined, usize), DesignRunError> {
         let mut spent = 0;
         if let Some(inside) = run.setup.settings.bounds.sizes_within(&design) {
@@ -75,7 +80,7 @@ impl Refine {
         let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);
         let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
             let best = profiles.objective(&simulation.centreline, objective);
-            ctx.report(Stage::Refine, iteration, before + evaluations, best, 0.0)
+            ctx.report(stage, iteration, before + evaluations, best, 0.0)
         };
         let refined = match self.correction {
             Some(mesh) => refine_corrected(

@@ -4,9 +4,8 @@
 
 use super::super::errors::DesignRunError;
 use super::super::incumbent::{Incumbent, Scorer, unit_cube_options};
-use super::super::outcome::{SearchEnd, Stage};
+use super::super::outcome::{SearchEnd, StageName};
 use super::super::run::{Context, Run};
-use super::RunStage;
 use crate::cmaes::Optimizer;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,8 +19,12 @@ pub struct Search {
     pub initial_step: f64,
 }
 
-impl RunStage for Search {
-    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
+impl Search {
+    pub(in super::super) fn run(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+    ) -> Result<(), DesignRunError> {
         if run.space.dimension() == 0 || self.budget <= 1 {
             return Ok(());
         }
@@ -68,7 +71,7 @@ impl RunStage for Search {
                 state.improved_at = state.evaluations;
             }
             ctx.report(
-                Stage::Search,
+                StageName::Search,
                 generation,
                 state.evaluations,
                 state.best_objective,

@@ -6,7 +6,6 @@ use super::super::caches::Caches;
 use super::super::checkpoint::DesignCheckpoint;
 use super::super::errors::DesignRunError;
 use super::super::incumbent::score;
-use super::super::outcome::Stage;
 use super::super::run::{Context, Run, Setup};
 use super::super::tuning::Start;
 use super::super::variables::{DesignSpace, Freedom, VariableBounds};
@@ -56,7 +55,6 @@ impl Seed {
                 (state, warm)
             }
             None => {
-                ctx.report(Stage::Seed, 0, 0, f64::NAN, 0.0);
                 let mut base = Design {
                     patches: vec![],
                     ..settings.base.clone()

@@ -2,16 +2,17 @@
 //! polish's simulation when it ran), on which the later stages start.
 
 use super::super::errors::DesignRunError;
-use super::super::outcome::Stage;
 use super::super::run::{Context, Run};
-use super::RunStage;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Verify;
 
-impl RunStage for Verify {
-    fn run(&self, run: &mut Run<'_>, ctx: &mut Context<'_>) -> Result<(), DesignRunError> {
-        ctx.entering(Stage::Verify, &run.state);
+impl Verify {
+    pub(in super::super) fn run(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+    ) -> Result<(), DesignRunError> {
         let simulation = match run.polished.take() {
             Some(simulation) => simulation,
             None => ctx

@@ -1,0 +1,267 @@
+//! A job as the service keeps and runs it. A design job ([`DesignSpec`]) is
+//! the target curve in millimetres and the run's resolved plan; job kinds
+//! are the variants of [`JobSpec`], so a new kind is a variant the compiler
+//! then asks the worker and the job's detail to handle. A spec is made once, when
+//! the job is submitted (`request.rs` turns the HTTP body into one, naming
+//! the field of anything wrong), stored with the job in a versioned form
+//! (`version`), and read back by the worker as it is: no request format, no
+//! HTTP type and no second validation on the way to the run.
+//!
+//! The stored form carries what the user chose (settings and tuning
+//! overrides), not the resolved tuning, so a stored job runs under the
+//! presets of the server that runs it — as a job resumed after an upgrade
+//! always has.
+
+use patchwork_core::curve::{Curve, Point};
+use patchwork_core::design::Design;
+use patchwork_core::inverse::{
+    Fidelity, Freedom, Plan, SettingsError, Smoothing, TuningOverrides, UserSettings,
+    VariableBounds,
+};
+use serde::{Deserialize, Serialize};
+
+/// The stored form's version; a reader refuses any other.
+pub const SPEC_VERSION: u32 = 1;
+
+/// A validated job of any kind: what the worker runs.
+#[derive(Debug, Clone, PartialEq)]
+pub enum JobSpec {
+    Design(DesignSpec),
+}
+
+/// A validated design job.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DesignSpec {
+    target: Curve,
+    overrides: TuningOverrides,
+    plan: Plan,
+}
+
+/// Why a stored spec cannot be run.
+#[derive(Debug, thiserror::Error)]
+pub enum SpecError {
+    #[error("the stored job spec is not readable: {0}")]
+    Unreadable(#[from] serde_json::Error),
+    #[error("the stored job spec has version {0}; this server reads version {SPEC_VERSION}")]
+    Version(u32),
+    #[error("the stored job spec no longer holds: {0}")]
+    Invalid(String),
+}
+
+impl JobSpec {
+    /// The stored form (JSON): `{"version": 1, "kind": "design", …}`.
+    pub fn to_stored(&self) -> String {
+        let job = match self {
+            JobSpec::Design(design) => StoredJob::Design(design.stored()),
+        };
+        let stored = Stored {
+            version: SPEC_VERSION,
+            job,
+        };
+        // Every field is a plain value with a JSON form (finite numbers:
+        // the curve's and the design's are checked when they are made).
+        serde_json::to_string(&stored).unwrap_or_default()
+    }
+
+    /// The job stored by [`JobSpec::to_stored`].
+    pub fn from_stored(text: &str) -> Result<JobSpec, SpecError> {
+        let version: Versioned = serde_json::from_str(text)?;
+        if version.version != SPEC_VERSION {
+            return Err(SpecError::Version(version.version));
+        }
+        let stored: Stored = serde_json::from_str(text)?;
+        match stored.job {
+            StoredJob::Design(design) => DesignSpec::from_stored(design).map(JobSpec::Design),
+        }
+    }
+}
+
+impl DesignSpec {
+    /// The job of `target` under `settings` with `overrides` laid over the
+    /// fidelity's preset; the error names the settings' field.
+    pub fn new(
+        target: Curve,
+        settings: UserSettings,
+        overrides: TuningOverrides,
+    ) -> Result<DesignSpec, SettingsError> {
+        let plan = Plan::resolve(settings, &overrides)?;
+        Ok(DesignSpec {
+            target,
+            overrides,
+            plan,
+        })
+    }
+
+    pub fn target(&self) -> &Curve {
+        &self.target
+    }
+
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    fn stored(&self) -> StoredDesign {
+        let s = self.plan.settings();
+        StoredDesign {
+            target_mm: self
+                .target
+                .points()
+                .iter()
+                .map(|p| [p.x, p.y, p.z])
+                .collect(),
+            design: s.base.clone(),
+            fidelity: s.fidelity,
+            seed: s.seed,
+            budget: s.budget,
+            bounds: s.bounds,
+            freedom: s.freedom,
+            fix_length: s.fix_length,
+            smoothing: s.smoothing,
+            threads: s.threads,
+            tuning: self.overrides.clone(),
+        }
+    }
+
+    fn from_stored(stored: StoredDesign) -> Result<DesignSpec, SpecError> {
+        let points = stored
+            .target_mm
+            .iter()
+            .map(|&[x, y, z]| Point::new(x, y, z))
+            .collect();
+        let target = Curve::from_points(points).map_err(|e| SpecError::Invalid(e.to_string()))?;
+        let settings = UserSettings {
+            base: stored.design,
+            fidelity: stored.fidelity,
+            seed: stored.seed,
+            budget: stored.budget,
+            bounds: stored.bounds,
+            freedom: stored.freedom,
+            fix_length: stored.fix_length,
+            smoothing: stored.smoothing,
+            threads: stored.threads,
+        };
+        DesignSpec::new(target, settings, stored.tuning)
+            .map_err(|e| SpecError::Invalid(e.to_string()))
+    }
+}
+
+/// Only the version, read first so that another version is named as such
+/// rather than as a field this reader does not know.
+#[derive(Deserialize)]
+struct Versioned {
+    version: u32,
+}
+
+/// The stored form, version 1: the version and the job, tagged by kind.
+#[derive(Serialize, Deserialize)]
+struct Stored {
+    version: u32,
+    #[serde(flatten)]
+    job: StoredJob,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+enum StoredJob {
+    Design(StoredDesign),
+}
+
+/// A design job as stored.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StoredDesign {
+    /// The target's points (mm): units applied, a preset sampled.
+    target_mm: Vec<[f64; 3]>,
+    /// Balloon, patch material and pressure (no patches).
+    design: Design,
+    fidelity: Fidelity,
+    seed: u64,
+    budget: Option<usize>,
+    bounds: VariableBounds,
+    freedom: Freedom,
+    fix_length: bool,
+    smoothing: Smoothing,
+    threads: usize,
+    tuning: TuningOverrides,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use patchwork_core::curve::Preset;
+
+    fn spec(settings: UserSettings, overrides: TuningOverrides) -> JobSpec {
+        let target = Preset::from_name("helix", serde_json::json!({}))
+            .unwrap()
+            .curve(Some(97))
+            .unwrap();
+        JobSpec::Design(DesignSpec::new(target, settings, overrides).unwrap())
+    }
+
+    #[test]
+    fn a_stored_spec_reads_back_as_the_same_job() {
+        let mut settings = UserSettings {
+            fidelity: Fidelity::Draft,
+            seed: 9_007_199_254_740_991,
+            budget: Some(37),
+            fix_length: true,
+            smoothing: Smoothing::Sigma(0.7),
+            ..UserSettings::default()
+        };
+        settings.base.pressure_kpa = 21.5;
+        settings.bounds.h_max_mm = 61.0;
+        settings.freedom.theta = false;
+        let overrides = TuningOverrides {
+            refine_budget: Some(12),
+            initial_step: Some(0.15),
+            ..TuningOverrides::default()
+        };
+        let job = spec(settings, overrides);
+        let back = JobSpec::from_stored(&job.to_stored()).unwrap();
+        assert_eq!(back, job);
+        assert_eq!(back.to_stored(), job.to_stored());
+        let plain = spec(UserSettings::default(), TuningOverrides::default());
+        assert_eq!(JobSpec::from_stored(&plain.to_stored()).unwrap(), plain);
+    }
+
+    #[test]
+    fn another_version_or_a_damaged_spec_is_refused_by_name() {
+        let job = spec(UserSettings::default(), TuningOverrides::default());
+        let mut value: serde_json::Value = serde_json::from_str(&job.to_stored()).unwrap();
+        value["version"] = 2.into();
+        let error = JobSpec::from_stored(&value.to_string()).unwrap_err();
+        assert!(matches!(error, SpecError::Version(2)), "{error}");
+        value["version"] = SPEC_VERSION.into();
+        value["target_mm"] = serde_json::json!([[0, 0, 0], [1, 0, 0]]);
+        let error = JobSpec::from_stored(&value.to_string()).unwrap_err();
+        assert!(matches!(error, SpecError::Invalid(_)), "{error}");
+        value["design"]["pressure_kpa"] = (-3.0).into();
+        let JobSpec::Design(design) = &job;
+        value["target_mm"] = serde_json::to_value(
+            design
+                .target()
+                .points()
+                .iter()
+                .map(|p| [p.x, p.y, p.z])
+                .collect::<Vec<_>>(),
+        )
+        .unwrap();
+        let error = JobSpec::from_stored(&value.to_string()).unwrap_err();
+        assert!(error.to_string().contains("pressure_kpa"), "{error}");
+        assert!(matches!(
+            JobSpec::from_stored("{\"version\": 1}").unwrap_err(),
+            SpecError::Unreadable(_)
+        ));
+        value["design"]["pressure_kpa"] = 20.0.into();
+        assert!(JobSpec::from_stored(&value.to_string()).is_ok());
+        value["kind"] = "calibrate".into();
+        assert!(matches!(
+            JobSpec::from_stored(&value.to_string()).unwrap_err(),
+            SpecError::Unreadable(_)
+        ));
+        value["kind"] = "design".into();
+        value["seeds"] = 3.into();
+        let error = JobSpec::from_stored(&value.to_string()).unwrap_err();
+        assert!(error.to_string().contains("seeds"), "{error}");
+    }
+}
