@@ -176,6 +176,7 @@ pub fn run(args: DesignArgs) -> Result<()> {
     };
     if terminal {
         eprintln!("plan: {}", plan.describe());
+        eprintln!("budgets: {}", plan.describe_budgets());
     }
     let mut observer = CliObserver {
         terminal,

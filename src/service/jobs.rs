@@ -262,8 +262,9 @@ pub async fn get(
 }
 
 /// One job as GET /v1/jobs/{id} and its cancel answer it: the job resource
-/// and what was asked, the request as submitted and the search's budget in
-/// evaluations (its plan's: progress against it).
+/// and what was asked, the request as submitted, the search's budget in
+/// evaluations (its plan's: progress against it), and the plan's stages
+/// with their budgets.
 fn detail(row: &JobRow) -> Result<Value, Problem> {
     let mut view = serde_json::to_value(JobView::new(row)).map_err(Problem::internal)?;
     if let Ok(request) = serde_json::from_str::<Value>(&row.request) {
@@ -271,7 +272,10 @@ fn detail(row: &JobRow) -> Result<Value, Problem> {
     }
     match row.spec.as_deref().map(JobSpec::from_stored) {
         Some(Ok(JobSpec::Design(design))) => {
-            view["search_budget"] = json!(design.plan().search_budget());
+            let plan = design.plan();
+            view["search_budget"] = json!(plan.search_budget());
+            view["plan"] = json!(plan.describe());
+            view["stage_budgets"] = json!(plan.describe_budgets());
         }
         // A job stored before specs whose request no longer makes one, or a
         // spec of another version: the detail goes without its budget.

@@ -88,6 +88,9 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
     .await;
     let facts = page.text("#job-facts").await;
     assert!(facts.contains("evaluations"), "{facts}");
+    // The job's plan and its stages' budgets, as the server answers them.
+    assert!(facts.contains("seed → reach → search"), "{facts}");
+    assert!(facts.contains("search: "), "{facts}");
     page.screenshot(&screenshots().join("progress.png")).await;
 
     page.wait_text_for("#job-status", "success", Duration::from_secs(600), |t| {

@@ -118,6 +118,12 @@ async fn a_job_answers_its_request_and_budget() {
     let job = api.job(&id).await;
     assert_schema("Job", &job);
     assert_eq!(job["search_budget"], 400);
+    // Its plan, gentle bends off: no layout stage, and the budgets asked.
+    let plan = job["plan"].as_str().unwrap();
+    assert!(plan.starts_with("seed → reach → search"), "{plan}");
+    assert!(!plan.contains("layout"), "{plan}");
+    let budgets = job["stage_budgets"].as_str().unwrap();
+    assert!(budgets.contains("search: 400 evaluations"), "{budgets}");
     assert_eq!(job["request"]["curve"], asked["curve"]);
     // The request answered is one the server takes again (no nulls).
     assert_eq!(job["request"]["tuning"], asked["tuning"]);
@@ -137,6 +143,10 @@ async fn a_job_answers_its_request_and_budget() {
     assert!(
         job["search_budget"].as_u64().unwrap() > 7,
         "the fidelity's budget"
+    );
+    assert_eq!(
+        job["plan"], "seed → reach → search → verify → length → refine → layout",
+        "draft's"
     );
     let listed: Value = api.get("/v1/jobs").await.json().await.unwrap();
     assert!(

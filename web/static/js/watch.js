@@ -130,6 +130,8 @@ export class JobPage {
     const rows = [
       ["created", new Date(this.job.created_at).toLocaleString()],
       ["fidelity", this.job.request?.options?.fidelity || "standard"],
+      this.job.plan && ["plan", this.job.plan],
+      this.job.stage_budgets && ["budgets", this.job.stage_budgets],
       this.stage && running(this.job) && ["stage", STAGES[this.stage] || this.stage],
     ];
     if (last) {

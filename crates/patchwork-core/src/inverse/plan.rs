@@ -16,7 +16,9 @@ use super::input::Smoothing;
 use super::outcome::StageName;
 use super::run::{Context, Run};
 use super::settings::UserSettings;
-use super::stages::{FinalRefine, Layout, Length, Polish, Reach, Refine, Search, Seed, Verify};
+use super::stages::{
+    FinalRefine, Layout, Length, MAX_LAYOUTS, Polish, Reach, Refine, Search, Seed, Verify,
+};
 use super::tuning::{Tuning, TuningOverrides};
 
 /// One stage after the seed, with its own budget.
@@ -43,6 +45,31 @@ impl Stage {
             Stage::Refine(_) => StageName::Refine,
             Stage::Layout(_) => StageName::Layout,
             Stage::FinalRefine(_) => StageName::FinalRefine,
+        }
+    }
+
+    /// What the stage may spend, in words (`600 evaluations`), where its
+    /// budget is its own: the search's and the polish's evaluations, the
+    /// refines' solves. The other stages cost a few solves each.
+    pub fn budget(&self) -> Option<String> {
+        match self {
+            Stage::Search(s) if s.patience > 0 => Some(format!(
+                "{} evaluations, ends after {} without a better design",
+                s.budget, s.patience
+            )),
+            Stage::Search(Search { budget, .. }) | Stage::Polish(Polish { budget }) => {
+                Some(format!("{budget} evaluations"))
+            }
+            Stage::Refine(r) => Some(format!("{} solves", r.solves)),
+            Stage::Layout(l) => Some(format!(
+                "up to {MAX_LAYOUTS} layouts, {} solves each",
+                l.refine.solves
+            )),
+            Stage::FinalRefine(f) => Some(format!(
+                "{} solves with the refine's, on the {} model",
+                f.shared_solves, f.refine.mesh
+            )),
+            Stage::Reach(_) | Stage::Verify(_) | Stage::Length(_) => None,
         }
     }
 
@@ -151,6 +178,19 @@ impl Plan {
             .map(StageName::as_str)
             .collect::<Vec<_>>()
             .join(" → ")
+    }
+
+    /// The stages with their budgets, one per line: `search: 600
+    /// evaluations`.
+    pub fn describe_budgets(&self) -> String {
+        self.stages
+            .iter()
+            .map(|stage| match stage.budget() {
+                Some(budget) => format!("{}: {budget}", stage.name().as_str()),
+                None => stage.name().as_str().to_string(),
+            })
+            .collect::<Vec<_>>()
+            .join("; ")
     }
 }
 
@@ -278,4 +318,66 @@ fn check(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::inverse::Fidelity;
+
+    fn plan(fidelity: Fidelity, overrides: TuningOverrides) -> Plan {
+        let settings = UserSettings {
+            fidelity,
+            ..UserSettings::default()
+        };
+        Plan::resolve(settings, &overrides).unwrap()
+    }
+
+    #[test]
+    fn every_stage_with_a_budget_of_its_own_shows_it() {
+        let draft = plan(Fidelity::Draft, TuningOverrides::default());
+        let tuning = draft.tuning();
+        assert!(tuning.search_patience > 0 && tuning.refine_budget > 0);
+        let expected = format!(
+            "reach; search: {} evaluations, ends after {} without a better design; verify; \
+             length; refine: {} solves; layout: up to 5 layouts, {} solves each",
+            draft.search_budget(),
+            tuning.search_patience,
+            tuning.refine_budget,
+            tuning.refine_budget
+        );
+        assert_eq!(draft.describe_budgets(), expected);
+        assert_eq!(
+            draft.describe(),
+            "seed → reach → search → verify → length → refine → layout"
+        );
+
+        let standard = plan(
+            Fidelity::Standard,
+            TuningOverrides {
+                search_patience: Some(0),
+                polish_budget: Some(30),
+                ..TuningOverrides::default()
+            },
+        );
+        let budgets = standard.describe_budgets();
+        let last = standard
+            .tuning()
+            .final_refine
+            .expect("standard's final refine");
+        let shared = standard.tuning().refine_budget;
+        let staging = shared.min(last.staging_solves);
+        for part in [
+            format!("search: {} evaluations;", standard.search_budget()),
+            "polish: 30 evaluations;".to_string(),
+            format!("refine: {staging} solves;"),
+            format!(
+                "final refine: {shared} solves with the refine's, on the {} model",
+                last.mesh
+            ),
+        ] {
+            assert!(budgets.contains(&part), "{part:?} not in {budgets:?}");
+        }
+        assert!(budgets.ends_with("model"), "{budgets}");
+    }
 }

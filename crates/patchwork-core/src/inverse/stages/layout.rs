@@ -36,6 +36,10 @@ const MARGIN: f64 = 0.05;
 /// round while each lowers the error (each a refine of its own).
 const THINNING_ROUNDS: usize = 3;
 
+/// The most layouts the stage refines: the gentle-bend layout (planar, then
+/// free, for a planar design) and the thinning rounds.
+pub const MAX_LAYOUTS: usize = 2 + THINNING_ROUNDS;
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Layout {
     /// The refine the candidate gets (the run's).

@@ -19,7 +19,7 @@ mod seed;
 mod verify;
 
 pub use final_refine::FinalRefine;
-pub use layout::Layout;
+pub use layout::{Layout, MAX_LAYOUTS};
 pub use length::Length;
 pub use polish::Polish;
 pub use reach::Reach;
