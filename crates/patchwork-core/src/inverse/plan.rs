@@ -180,8 +180,8 @@ impl Plan {
             .join(" → ")
     }
 
-    /// The stages with their budgets, one per line: `search: 600
-    /// evaluations`.
+    /// The stages after the seed with their budgets, `; `-separated:
+    /// `reach; search: 600 evaluations; …`.
     pub fn describe_budgets(&self) -> String {
         self.stages
             .iter()
