@@ -26,7 +26,7 @@ pub struct CurveInput {
     pub smooth_mm: Option<f64>,
 }
 
-fn parse_units(text: &str) -> Result<Units, String> {
+pub fn parse_units(text: &str) -> Result<Units, String> {
     text.parse()
         .map_err(|e: patchwork_core::CurveError| e.to_string())
 }

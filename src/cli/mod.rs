@@ -1,6 +1,7 @@
 //! Command-line contract. Scripts depend on these names: change with care.
 
 mod bench;
+mod compare_cmd;
 mod curve_cmd;
 pub(crate) mod design_cmd;
 mod design_summary;
@@ -47,6 +48,12 @@ enum Command {
     /// Inverse design: patches for a target curve, with cut files.
     #[command(after_help = "Example:\n  patchwork design grasp.csv --out grasp/ --fidelity draft")]
     Design(design_cmd::DesignArgs),
+    /// A built balloon's measured centreline against its design: shape
+    /// error, length, bend and twist under every patch.
+    #[command(
+        after_help = "Example:\n  patchwork compare grasp/design.json measured.csv --out grasp/compare"
+    )]
+    Compare(compare_cmd::CompareArgs),
     /// Run time against error: a fixed suite of curves × fidelity settings.
     #[command(after_help = "Example:\n  patchwork bench --quick --out bench-out")]
     Bench(bench::BenchArgs),
@@ -72,6 +79,7 @@ pub fn run() -> Result<()> {
         Command::Preset(args) => preset_cmd::run(args),
         Command::Simulate(args) => simulate_cmd::run(args),
         Command::Design(args) => design_cmd::run(args),
+        Command::Compare(args) => compare_cmd::run(args),
         Command::Serve(args) => crate::service::run(args),
         Command::CopyJobs(args) => crate::service::copy_jobs::run(args),
         Command::Bench(args) => bench::run(args),

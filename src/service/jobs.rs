@@ -373,7 +373,7 @@ fn page_limit(limit: Option<i64>, default: i64, max: i64) -> Result<i64, Problem
     }
 }
 
-fn not_ready(row: &JobRow) -> Problem {
+pub(super) fn not_ready(row: &JobRow) -> Problem {
     Problem::new(
         StatusCode::CONFLICT,
         if row.status.is_pending() {

@@ -4,6 +4,7 @@
 
 mod auth;
 mod body_limit;
+mod compare;
 mod config;
 pub mod copy_jobs;
 mod events;

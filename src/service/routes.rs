@@ -7,7 +7,7 @@ use axum::http::Method;
 use axum::routing::{MethodFilter, MethodRouter, on};
 
 use super::state::AppState;
-use super::{events, jobs, ops, quick};
+use super::{compare, events, jobs, ops, quick};
 
 /// Whether a route sits behind the API key check.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -58,6 +58,13 @@ pub fn table() -> Vec<Route> {
         route("GET", "/v1/jobs/{id}/iterations", Keyed, jobs::iterations),
         route("GET", "/v1/jobs/{id}/result", Keyed, jobs::result),
         route("GET", "/v1/jobs/{id}/files/{name}", Keyed, jobs::file),
+        route(
+            "POST",
+            "/v1/jobs/{id}/compare",
+            Keyed,
+            compare::job_compare_route,
+        ),
+        route("POST", "/v1/compare", Keyed, compare::compare_route),
         route("POST", "/v1/curve", Keyed, quick::curve_route),
         route("POST", "/v1/ksa", Keyed, quick::ksa_route),
         route("POST", "/v1/simulate", Keyed, quick::simulate_route),

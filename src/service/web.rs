@@ -36,6 +36,7 @@ const ASSETS: &[(&str, &[u8])] = assets![
     "js/submit.js",
     "js/watch.js",
     "js/result.js",
+    "js/compare.js",
     "js/jobs.js",
     "js/plot.js",
     "js/unrolled.js",

@@ -157,6 +157,50 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
         json!(true)
     );
 
+    // The balloon built: its centreline (here the prediction's own, given
+    // tip to base) uploaded and compared; drawn over the design.
+    let predicted = page
+        .execute("return window.patchwork.result.centreline_mm", json!([]))
+        .await;
+    let mut lines: Vec<String> = predicted
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| format!("{},{},{}", p[0], p[1], p[2]))
+        .collect();
+    lines.reverse();
+    let measured = dir.path().join("measured.csv");
+    std::fs::write(&measured, lines.join("\n")).unwrap();
+    page.choose_file("#measured-file", &measured).await;
+    page.click("#compare").await;
+    let compared = page
+        .wait_text("#compare-facts", "the comparison's figures", |t| {
+            t.contains("vs prediction")
+        })
+        .await;
+    assert!(compared.contains("given tip to base"), "{compared}");
+    let comparison = page
+        .execute("return window.patchwork.comparison", json!([]))
+        .await;
+    assert!(
+        comparison["against_prediction"]["shape_error_mm"]
+            .as_f64()
+            .unwrap()
+            < 1e-6
+    );
+    let rows = page
+        .execute(
+            "return document.querySelectorAll('#compare-table tbody tr').length",
+            json!([]),
+        )
+        .await;
+    assert_eq!(rows, json!(comparison["patches"].as_array().unwrap().len()));
+    assert_eq!(
+        page.execute("return window.patchwork.view.has('measured')", json!([]))
+            .await,
+        json!(true)
+    );
+
     page.click("[data-file=\"patches.dxf\"]").await;
     let dxf = downloaded(dir.path(), "patches.dxf").await;
     assert_eq!(crate::common::ezdxf_errors(&dxf), 0);

@@ -12,6 +12,7 @@ mod bad_input;
 mod browser;
 mod copy_jobs;
 mod lifecycle;
+mod measure;
 mod nodes;
 mod outage;
 mod page_routes;

@@ -18,6 +18,7 @@ pub mod inverse;
 pub mod ksa;
 pub mod least_squares;
 pub mod material;
+pub mod measure;
 mod parallel;
 
 pub use curve::{Curve, CurveError, Point};

@@ -12,7 +12,7 @@ import { View3D } from "./view3d.js";
 import { lineChart } from "./plot.js";
 import { drawUnrolled } from "./unrolled.js";
 
-const DESIGN_ITEMS = ["design", "edited", "surface", "reach"];
+const DESIGN_ITEMS = ["design", "edited", "surface", "reach", "measured"];
 
 class Page {
   constructor() {
@@ -84,6 +84,7 @@ class Page {
       this.clearDesign();
       $("#progress-panel").hidden = true;
       $("#patches-panel").hidden = true;
+      $("#compare-panel").hidden = true;
       $("#template-panel").hidden = true;
       if (this.started) this.curve.preview();
     }

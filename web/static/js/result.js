@@ -7,6 +7,7 @@ import { api, download } from "./api.js";
 import { align } from "./align.js";
 import { $, el, num } from "./dom.js";
 import { drawUnrolled } from "./unrolled.js";
+import { offerComparison } from "./compare.js";
 
 const FIELDS = [["x_mm", "X (mm)"], ["y_mm", "Y (mm)"], ["h_mm", "H (mm)"], ["w_mm", "W (mm)"], ["theta_deg", "Θ (°)"]];
 
@@ -65,8 +66,12 @@ export async function showResult(page, jobId, result, preview) {
     ["time", `${num(result.elapsed_s, 3)} s, ${result.evaluations} evaluations`],
   ];
   facts.append(...rows.flatMap(([k, v]) => [el("dt", { text: k }), el("dd", { text: String(v), "data-fact": k })]));
+  // The prediction's frame onto the target's (when shown): the measured
+  // centreline of a comparison, aligned onto the prediction, goes with it.
+  let placed = (p) => p;
   if (target) {
     const fit = align(result.centreline_mm, target);
+    placed = fit.apply;
     // The page's alignment reproduces the server's shape error (a browser test compares them).
     page.resultFit = { percent: fit.percent, server: m.shape_error_percent };
     page.view.curve("design", result.centreline_mm.map(fit.apply), {
@@ -85,6 +90,11 @@ export async function showResult(page, jobId, result, preview) {
     button.onclick = () => download(jobId, button.dataset.file).catch((e) => ($("#job-error").textContent = e.message));
   }
   showTemplate(jobId);
+  offerComparison(page, jobId, (points) => {
+    page.view.curve("measured", points.map(placed), {
+      colour: "#e8590c", label: "built balloon, measured (centreline)", radius: page.tubeRadius * 0.8 });
+    page.view.render();
+  });
   if (target) await inflate(page, result.design, target, "surface", "inflated membrane");
 }
 

@@ -47,6 +47,7 @@ export class JobPage {
     $("#downloads").hidden = true;
     $("#progress-panel").hidden = true;
     $("#patches-panel").hidden = true;
+    $("#compare-panel").hidden = true;
     $("#template-panel").hidden = true;
     $("#job-heading").textContent = `Job ${id.slice(0, 8)}…`;
     $("#unrolled-caption").textContent = "The design's patches on the unrolled balloon, when it is done";

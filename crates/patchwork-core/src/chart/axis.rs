@@ -69,6 +69,17 @@ impl Axis {
         }
     }
 
+    /// The value at `fraction` along the axis (the inverse of
+    /// [`Axis::fraction`]).
+    pub fn value_at(&self, fraction: f64) -> f64 {
+        match self.scale {
+            Scale::Linear => self.lo + fraction * (self.hi - self.lo),
+            Scale::Log => {
+                10f64.powf(self.lo.log10() + fraction * (self.hi.log10() - self.lo.log10()))
+            }
+        }
+    }
+
     /// The labelled ticks: every step (linear) or every decade (log).
     pub fn ticks(&self) -> Vec<f64> {
         match self.scale {

@@ -114,6 +114,7 @@ fn outcome(
         verified_on: run.verified_on,
         input: run.setup.input,
         as_given,
+        given: given.clone(),
         reach: run.reach,
         layouts: run.layouts,
         shortfalls,

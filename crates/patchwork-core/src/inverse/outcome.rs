@@ -10,6 +10,7 @@ use super::limits::AtLimit;
 use super::reach::ReachReport;
 use super::shortfall::Shortfall;
 use crate::cmaes::Termination;
+use crate::curve::Curve;
 use crate::design::Design;
 use crate::fe::Simulation;
 use crate::fe::mesh::MeshSpec;
@@ -216,6 +217,8 @@ pub struct DesignOutcome {
     pub input: InputReport,
     /// The verified centreline against the curve as given.
     pub as_given: AsGiven,
+    /// The curve exactly as the user gave it (mm), before any smoothing.
+    pub given: Curve,
     /// Where the target is beyond what a patch can make; none when the plan
     /// had no reach stage.
     pub reach: Option<ReachReport>,

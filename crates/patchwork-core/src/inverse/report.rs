@@ -16,8 +16,14 @@ use crate::fe::contact::{SelfContact, self_contacts};
 pub struct DesignReport {
     /// The design (same schema as `simulate`).
     pub design: Design,
-    /// The predicted (verified) inflated centreline.
+    /// The predicted (verified) inflated centreline: the centres of rings
+    /// at equal steps of the uninflated balloon's length, base to tip.
     pub centreline_mm: Vec<[f64; 3]>,
+    /// The target exactly as the user gave it (mm, before any smoothing):
+    /// what `patchwork compare` measures a built balloon against; empty in
+    /// reports written before it was kept.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub target_mm: Vec<[f64; 3]>,
     /// Verified on the fine mesh.
     pub metrics: Metrics,
     /// KSA seed and best design on the search model (comparable with each other).
@@ -84,6 +90,12 @@ impl DesignReport {
             centreline_mm: outcome
                 .simulation
                 .centreline
+                .points()
+                .iter()
+                .map(|p| [p.x, p.y, p.z])
+                .collect(),
+            target_mm: outcome
+                .given
                 .points()
                 .iter()
                 .map(|p| [p.x, p.y, p.z])

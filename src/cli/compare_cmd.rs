@@ -1,0 +1,134 @@
+//! `patchwork compare DESIGN.json MEASURED [--units U] [--target FILE]
+//! [--json] [--out DIR]`: a built balloon's centreline against its design.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use patchwork_core::curve::{Units, read_curve};
+use patchwork_core::measure::{Comparison, Prediction, ShapeFigures, compare, comparison_svg};
+
+use super::input::{parse_units, read_text_argument};
+use super::output::{emit, emit_json};
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// The design.json that `design` wrote (the API's `design.json` file
+    /// alike): the design, its predicted centreline and the target.
+    design: String,
+    /// The centreline measured on the inflated balloon: CSV/whitespace text
+    /// (`x y z` per line) or JSON (`{"points": [...]}`), base to tip or tip
+    /// to base; `-` reads stdin.
+    measured: String,
+    /// Units of the measured coordinates (JSON's own `units` field wins).
+    #[arg(long, default_value = "mm", value_parser = parse_units)]
+    units: Units,
+    /// The target curve to measure against (mm), instead of the one in
+    /// design.json (which reports written before it was kept lack).
+    #[arg(long)]
+    target: Option<String>,
+    /// Print the comparison as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Also write compare.json and compare.svg (κ and τ along the length,
+    /// measured against predicted) here.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+pub fn run(args: CompareArgs) -> Result<()> {
+    let design_text = read_text_argument(&args.design)?;
+    let mut prediction =
+        Prediction::from_design_json(&design_text).with_context(|| args.design.clone())?;
+    if let Some(target) = &args.target {
+        let curve = read_curve(&read_text_argument(target)?, Units::Mm)
+            .with_context(|| format!("--target {target}"))?;
+        prediction = prediction.with_target(curve);
+    }
+    let measured = read_curve(&read_text_argument(&args.measured)?, args.units)
+        .with_context(|| args.measured.clone())?;
+    let comparison = compare(&prediction, &measured)?;
+    if let Some(dir) = &args.out {
+        write_files(dir, &comparison)?;
+    }
+    match args.json {
+        true => emit_json(&comparison),
+        false => emit(&summary(&comparison)),
+    }
+}
+
+fn write_files(dir: &PathBuf, comparison: &Comparison) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let write = |name: &str, text: String| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))
+    };
+    write(
+        "compare.json",
+        serde_json::to_string_pretty(comparison)? + "\n",
+    )?;
+    write("compare.svg", comparison_svg(comparison))
+}
+
+/// The comparison as a person reads it.
+fn summary(c: &Comparison) -> String {
+    let m = &c.measured;
+    let mut text = format!(
+        "measured:     {} points{}, {:.1} mm as given; noise {:.2} mm, smoothed with σ {:.1} mm\n\
+         length:       {:.1} mm measured against {:.1} mm predicted ({:+.1} mm, {:+.1} %)\n",
+        m.points,
+        if m.reversed {
+            " (given tip to base)"
+        } else {
+            ""
+        },
+        m.length_mm,
+        m.input.noise_mm,
+        m.input.smoothing_mm,
+        m.smoothed_length_mm,
+        c.predicted_length_mm,
+        c.length_difference_mm,
+        c.length_difference_percent,
+    );
+    text += &shape_line("vs predicted", &c.against_prediction);
+    if let Some(figures) = &c.against_target {
+        text += &shape_line("vs target", figures);
+    }
+    if let Some(figures) = &c.prediction_against_target {
+        text += &shape_line("design/target", figures);
+    }
+    if !c.patches.is_empty() {
+        text += "patch  stretch (%)   bend measured/predicted (°)   twist measured/predicted (°)   local error\n";
+    }
+    for r in &c.patches {
+        text += &format!(
+            "P{:<5} {:>4.0} – {:<4.0}   {:>8.1} / {:<8.1}            {:>8.1} / {:<8.1}             {:.2} mm ({:.2} %){}\n",
+            r.patch,
+            100.0 * r.from_fraction,
+            100.0 * r.to_fraction,
+            r.measured_bend_deg,
+            r.predicted_bend_deg,
+            r.measured_twist_deg,
+            r.predicted_twist_deg,
+            r.local_error_mm,
+            r.local_error_percent,
+            if c.most_divergent_patch == Some(r.patch) {
+                "  ← diverges most"
+            } else {
+                ""
+            },
+        );
+    }
+    text
+}
+
+fn shape_line(label: &str, f: &ShapeFigures) -> String {
+    format!(
+        "{:<13} shape error {:.2} mm ({:.2} % of the length), largest {:.2} mm at {:.0} % from the base\n",
+        format!("{label}:"),
+        f.shape_error_mm,
+        f.shape_error_percent,
+        f.largest_mm,
+        100.0 * f.largest_at_fraction,
+    )
+}
