@@ -10,7 +10,7 @@ use serde_json::{Value, json};
 /// A 120 mm balloon with patches at Y = 35, 60 and 85 mm; `turn` turns
 /// P2 by that many degrees.
 fn design(turn: f64) -> Value {
-    let patch = |y: f64, theta: f64| json!({"x_mm": 0, "y_mm": y, "h_mm": 18, "w_mm": 3, "theta_deg": theta});
+    let patch = |y: f64, theta: f64| json!({"x_mm": 0, "y_mm": y, "h_mm": 14, "w_mm": 1.5, "theta_deg": theta});
     json!({
         "balloon": {"length_mm": 120},
         "patches": [patch(35.0, 0.0), patch(60.0, turn), patch(85.0, 0.0)],
@@ -164,5 +164,67 @@ fn compare_refuses_bad_input_in_one_line() {
             .as_f64()
             .unwrap()
             < 0.1
+    );
+}
+
+/// The built balloon scanned: `simulate --out` writes its inflated surface
+/// as balloon.ply (a mesh, sampled over its faces), and `compare` takes the
+/// centreline out of it; a scan that is not a tube is refused in one line.
+#[test]
+fn compare_reads_a_scan_of_the_built_balloon() {
+    let scratch = temp_dir("compare-scan");
+    let (design_json, built) = prediction_and_built(scratch.path());
+    let scan = std::path::Path::new(&built).with_file_name("balloon.ply");
+    let out = scratch.path().join("scan-compare");
+    let report = json(&patchwork(&[
+        "compare",
+        &design_json,
+        &scan.to_string_lossy(),
+        "--json",
+        "--out",
+        &out.to_string_lossy(),
+    ]));
+    assert_eq!(report["most_divergent_patch"], 2, "{:#}", report["patches"]);
+    assert_eq!(report["scan"]["points"], 300_000);
+    assert!(out.join("scan_centreline.csv").exists());
+    // The same balloon's centreline as a CSV and as a scan agree.
+    let from_points = json(&patchwork(&["compare", &design_json, &built, "--json"]));
+    let shape = |r: &Value| {
+        r["against_prediction"]["shape_error_percent"]
+            .as_f64()
+            .unwrap()
+    };
+    assert!(
+        (shape(&report) - shape(&from_points)).abs() < 0.2,
+        "{} {}",
+        shape(&report),
+        shape(&from_points)
+    );
+
+    let ball = scratch.path().join("ball.xyz");
+    let points: String = (0..2000)
+        .map(|i| {
+            let (a, b) = (
+                i as f64 * 2.399963,
+                (1.0 - 2.0 * (i as f64 + 0.5) / 2000.0).acos(),
+            );
+            format!(
+                "{} {} {}\n",
+                20.0 * b.sin() * a.cos(),
+                20.0 * b.sin() * a.sin(),
+                20.0 * b.cos()
+            )
+        })
+        .collect();
+    std::fs::write(&ball, points).unwrap();
+    assert_one_line_error(
+        &patchwork(&["compare", &design_json, &ball.to_string_lossy()]),
+        "does not look like a tube",
+    );
+    let few = scratch.path().join("few.xyz");
+    std::fs::write(&few, "0 0 0\n1 0 0\n0 1 0\n0 0 1\n").unwrap();
+    assert_one_line_error(
+        &patchwork(&["compare", &design_json, &few.to_string_lossy()]),
+        "at least 1000",
     );
 }

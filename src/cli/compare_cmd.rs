@@ -6,7 +6,11 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use patchwork_core::curve::{Units, read_curve};
-use patchwork_core::measure::{Comparison, Prediction, ShapeFigures, compare, comparison_svg};
+use patchwork_core::measure::scan::centreline_from_scan;
+use patchwork_core::measure::scan::read::{ScanFormat, read_scan};
+use patchwork_core::measure::{
+    Comparison, Prediction, ShapeFigures, compare, compare_scan, comparison_svg,
+};
 
 use super::input::{parse_units, read_text_argument};
 use super::output::{emit, emit_json};
@@ -16,9 +20,11 @@ pub struct CompareArgs {
     /// The design.json that `design` wrote (the API's `design.json` file
     /// alike): the design, its predicted centreline and the target.
     design: String,
-    /// The centreline measured on the inflated balloon: CSV/whitespace text
-    /// (`x y z` per line) or JSON (`{"points": [...]}`), base to tip or tip
-    /// to base; `-` reads stdin.
+    /// What was measured on the inflated balloon: its centreline, as
+    /// CSV/whitespace text (`x y z` per line) or JSON (`{"points": [...]}`),
+    /// base to tip or tip to base (`-` reads stdin); or a 3D scan of its
+    /// surface, told by the file's extension: `.ply`, `.obj`, `.stl`,
+    /// `.xyz` or `.pts` (the centreline is extracted from it).
     measured: String,
     /// Units of the measured coordinates (JSON's own `units` field wins).
     #[arg(long, default_value = "mm", value_parser = parse_units)]
@@ -31,7 +37,8 @@ pub struct CompareArgs {
     #[arg(long)]
     json: bool,
     /// Also write compare.json and compare.svg (κ and τ along the length,
-    /// measured against predicted) here.
+    /// measured against predicted) here, and for a scan the centreline
+    /// extracted from it with its radius (scan_centreline.csv).
     #[arg(long)]
     out: Option<PathBuf>,
 }
@@ -45,9 +52,21 @@ pub fn run(args: CompareArgs) -> Result<()> {
             .with_context(|| format!("--target {target}"))?;
         prediction = prediction.with_target(curve);
     }
-    let measured = read_curve(&read_text_argument(&args.measured)?, args.units)
-        .with_context(|| args.measured.clone())?;
-    let comparison = compare(&prediction, &measured)?;
+    let comparison = match ScanFormat::from_name(&args.measured) {
+        Some(format) => {
+            let bytes = std::fs::read(&args.measured)
+                .with_context(|| format!("cannot read {}", args.measured))?;
+            let points =
+                read_scan(&bytes, format, args.units).with_context(|| args.measured.clone())?;
+            let scan = centreline_from_scan(&points).with_context(|| args.measured.clone())?;
+            compare_scan(&prediction, &scan)?
+        }
+        None => {
+            let measured = read_curve(&read_text_argument(&args.measured)?, args.units)
+                .with_context(|| args.measured.clone())?;
+            compare(&prediction, &measured)?
+        }
+    };
     if let Some(dir) = &args.out {
         write_files(dir, &comparison)?;
     }
@@ -67,6 +86,15 @@ fn write_files(dir: &PathBuf, comparison: &Comparison) -> Result<()> {
         "compare.json",
         serde_json::to_string_pretty(comparison)? + "\n",
     )?;
+    if let Some(scan) = &comparison.scan {
+        let rows: String = scan
+            .centreline_mm
+            .iter()
+            .zip(&scan.radius_mm)
+            .map(|(p, r)| format!("{},{},{},{}\n", p[0], p[1], p[2], r))
+            .collect();
+        write("scan_centreline.csv", format!("x,y,z,radius\n{rows}"))?;
+    }
     write("compare.svg", comparison_svg(comparison))
 }
 
@@ -90,6 +118,22 @@ fn summary(c: &Comparison) -> String {
         c.length_difference_mm,
         c.length_difference_percent,
     );
+    if let Some(scan) = &c.scan {
+        text += &format!(
+            "scan:         {} points, {} on the tube; centreline extracted at {} cross-sections, \
+             their points {:.2} mm RMS off a circle\n",
+            scan.points,
+            scan.points_on_tube,
+            scan.centreline_mm.len(),
+            scan.section_residual_mm,
+        );
+    }
+    if let Some(r) = &c.radius {
+        text += &format!(
+            "radius:       {:.2} mm measured against {:.2} mm predicted ({:+.1} %, medians along the length)\n",
+            r.measured_median_mm, r.predicted_median_mm, r.difference_percent
+        );
+    }
     text += &shape_line("vs predicted", &c.against_prediction);
     if let Some(figures) = &c.against_target {
         text += &shape_line("vs target", figures);

@@ -25,6 +25,9 @@ use futures_util::StreamExt;
 use super::problem::Problem;
 use super::state::AppState;
 
+/// Routes ending so take a scan, up to `scan_limit_bytes` instead.
+pub const SCAN_UPLOAD: &str = "/compare/scan";
+
 /// Declared bodies up to this many times the limit are drained before the 413.
 pub const DRAIN_FACTOR: u64 = 8;
 /// The longest a refused body is drained.
@@ -35,7 +38,10 @@ pub async fn refuse_declared_oversize(
     request: Request,
     next: Next,
 ) -> Response {
-    let limit = state.config.body_limit_bytes as u64;
+    let limit = match request.uri().path().ends_with(SCAN_UPLOAD) {
+        true => state.config.scan_limit_bytes,
+        false => state.config.body_limit_bytes,
+    } as u64;
     let headers = request.headers();
     let declared = headers
         .get(header::CONTENT_LENGTH)

@@ -1,12 +1,17 @@
-//! `POST /v1/compare` and `POST /v1/jobs/{id}/compare`: a built balloon's
-//! measured centreline against a design's prediction (the core's
-//! `measure::compare`), on a blocking thread.
+//! `POST /v1/compare`, `POST /v1/jobs/{id}/compare` and
+//! `POST /v1/jobs/{id}/compare/scan`: a built balloon's measured centreline,
+//! or a 3D scan of it, against a design's prediction (the core's
+//! `measure::compare`, `measure::scan`), on a blocking thread.
 
 use axum::Extension;
 use axum::Json;
+use axum::body::Body;
 use axum::extract::{Path, State};
+use axum::http::{StatusCode, Uri};
 use patchwork_core::curve::Units;
-use patchwork_core::measure::{CompareError, Comparison, Prediction, compare};
+use patchwork_core::measure::scan::centreline_from_scan;
+use patchwork_core::measure::scan::read::{ScanFormat, read_scan};
+use patchwork_core::measure::{CompareError, Comparison, Prediction, compare, compare_scan};
 use serde::Deserialize;
 use serde_json::Value;
 
@@ -85,7 +90,76 @@ async fn run(
 fn problem(error: CompareError, design_field: &str) -> Problem {
     let field = match error {
         CompareError::Design(_) => design_field,
+        CompareError::Measured(_) | CompareError::Length { .. } if design_field == "scan" => "scan",
         CompareError::Measured(_) | CompareError::Length { .. } => "measured",
     };
     Problem::invalid(field, error.to_string())
+}
+
+/// `POST /v1/jobs/{id}/compare/scan?format=ply&units=mm`: the body is the
+/// scan file itself (PLY, OBJ, STL, XYZ), up to the server's
+/// `scan_limit_bytes`.
+pub async fn job_scan_route(
+    State(state): State<AppState>,
+    Extension(owner): Extension<Owner>,
+    Path(id): Path<String>,
+    uri: Uri,
+    body: Body,
+) -> Result<Json<Comparison>, Problem> {
+    let (format, units) = scan_query(uri.query().unwrap_or(""))?;
+    let row = owned(&state, &owner, &id).await?;
+    let Some(result) = state.store.result(&id).await? else {
+        return Err(not_ready(&row));
+    };
+    let prediction = Prediction::from_design_json(&result).map_err(Problem::internal)?;
+    let limit = state.config.scan_limit_bytes;
+    let bytes = axum::body::to_bytes(body, limit).await.map_err(|_| {
+        Problem::new(
+            StatusCode::PAYLOAD_TOO_LARGE,
+            format!("the scan is over the limit of {limit} bytes"),
+        )
+    })?;
+    tokio::task::spawn_blocking(move || {
+        let points = read_scan(&bytes, format, units)
+            .map_err(|e| Problem::invalid("scan", e.to_string()))?;
+        let scan =
+            centreline_from_scan(&points).map_err(|e| Problem::invalid("scan", e.to_string()))?;
+        compare_scan(&prediction, &scan).map_err(|e| problem(e, "scan"))
+    })
+    .await
+    .map_err(Problem::internal)?
+    .map(Json)
+}
+
+/// The scan route's query: `format` (ply, obj, stl, xyz or pts) and
+/// optional `units`; anything else is refused naming it.
+fn scan_query(query: &str) -> Result<(ScanFormat, Units), Problem> {
+    let (mut format, mut units) = (None, Units::Mm);
+    for pair in query.split('&').filter(|p| !p.is_empty()) {
+        let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
+        match key {
+            "format" => {
+                format = Some(
+                    ScanFormat::from_name(&format!("scan.{value}")).ok_or_else(|| {
+                        Problem::invalid("format", "format must be ply, obj, stl, xyz or pts")
+                    })?,
+                )
+            }
+            "units" => {
+                units = value.parse().map_err(|e: patchwork_core::CurveError| {
+                    Problem::invalid("units", e.to_string())
+                })?
+            }
+            other => {
+                return Err(Problem::invalid(
+                    other,
+                    format!("unknown query parameter `{other}`"),
+                ));
+            }
+        }
+    }
+    let format = format.ok_or_else(|| {
+        Problem::invalid("format", "format is required: ply, obj, stl, xyz or pts")
+    })?;
+    Ok((format, units))
 }

@@ -29,6 +29,7 @@ pub struct ServeArgs {
     pub workers: Option<usize>,
     /// TOML file with `api_keys`, `cors_origins`, `queue_capacity`,
     /// `job_time_limit_s`, `simulate_time_limit_s`, `body_limit_bytes`,
+    /// `scan_limit_bytes` (a scan upload's; default 256 MiB),
     /// `lease_s` (how long a running job's hold lasts unrenewed; default 10).
     #[arg(long)]
     pub config: Option<PathBuf>,
@@ -51,6 +52,7 @@ struct ConfigFile {
     job_time_limit_s: Option<u64>,
     simulate_time_limit_s: Option<u64>,
     body_limit_bytes: Option<usize>,
+    scan_limit_bytes: Option<usize>,
     lease_s: Option<u64>,
 }
 
@@ -72,6 +74,8 @@ pub struct Config {
     pub job_time_limit: Duration,
     pub simulate_time_limit: Duration,
     pub body_limit_bytes: usize,
+    /// The largest scan `POST /v1/jobs/{id}/compare/scan` takes (bytes).
+    pub scan_limit_bytes: usize,
 }
 
 impl Config {
@@ -119,6 +123,7 @@ impl Config {
             ),
             simulate_time_limit: Duration::from_secs(file.simulate_time_limit_s.unwrap_or(20)),
             body_limit_bytes: file.body_limit_bytes.unwrap_or(8 << 20),
+            scan_limit_bytes: file.scan_limit_bytes.unwrap_or(256 << 20),
         })
     }
 

@@ -64,6 +64,12 @@ pub fn table() -> Vec<Route> {
             Keyed,
             compare::job_compare_route,
         ),
+        route(
+            "POST",
+            "/v1/jobs/{id}/compare/scan",
+            Keyed,
+            compare::job_scan_route,
+        ),
         route("POST", "/v1/compare", Keyed, compare::compare_route),
         route("POST", "/v1/curve", Keyed, quick::curve_route),
         route("POST", "/v1/ksa", Keyed, quick::ksa_route),

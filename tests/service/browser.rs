@@ -44,6 +44,7 @@ fn write_csv(dir: &Path, preset: &[&str]) -> PathBuf {
 async fn a_csv_file_becomes_a_downloaded_dxf() {
     let docs = std::env::var_os("PATCHWORK_DOCS_SCREENSHOT").is_some();
     let server = Server::start();
+    let api = server.api();
     let driver = Driver::start();
     let dir = tempfile::tempdir().unwrap();
     let (curve, budget): (&[&str], &str) = if docs {
@@ -200,6 +201,23 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
             .await,
         json!(true)
     );
+
+    // A scan of it (the predicted surface as a PLY mesh) compares too.
+    let design = page
+        .execute("return window.patchwork.result.design", json!([]))
+        .await;
+    let scan = dir.path().join("scan.ply");
+    std::fs::write(&scan, crate::measure::surface_ply(&api, &design).await).unwrap();
+    page.choose_file("#measured-file", &scan).await;
+    page.click("#compare").await;
+    page.wait_text("#compare-facts", "the scan's figures", |t| {
+        t.contains("cross-sections")
+    })
+    .await;
+    let scanned = page
+        .execute("return window.patchwork.comparison.scan.points", json!([]))
+        .await;
+    assert!(scanned.as_u64().unwrap() >= 300_000, "{scanned}");
 
     page.click("[data-file=\"patches.dxf\"]").await;
     let dxf = downloaded(dir.path(), "patches.dxf").await;

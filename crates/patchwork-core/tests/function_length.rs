@@ -8,10 +8,10 @@ use std::path::Path;
 
 use structure::lengths::{MAX_FUNCTION_LINES as MAX_LINES, functions, rust_files};
 
-const CHECKED: [&str; 3] = ["inverse", "fe", "least_squares"];
+const CHECKED: [&str; 4] = ["inverse", "fe", "least_squares", "measure"];
 
 #[test]
-fn no_function_in_the_pipeline_fe_or_least_squares_passes_80_lines() {
+fn no_function_in_the_pipeline_fe_least_squares_or_measure_passes_80_lines() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut long = Vec::new();
     let mut counted = 0;

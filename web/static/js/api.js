@@ -33,10 +33,15 @@ export function headers(extra = {}) {
   return key ? { ...extra, Authorization: `Bearer ${key}` } : extra;
 }
 
-/** A request to the API; resolves to the parsed JSON (or the Response when `raw`). */
-export async function api(method, path, body, { raw = false, signal } = {}) {
+/** A request to the API; resolves to the parsed JSON (or the Response when `raw`).
+ *  `bytes` (a Blob or ArrayBuffer) is sent as the body instead of `body`'s JSON. */
+export async function api(method, path, body, { raw = false, signal, bytes } = {}) {
   const init = { method, headers: headers(), signal };
-  if (body !== undefined) {
+  if (bytes !== undefined) {
+    // A file as it is (a scan): its bytes are the body.
+    init.headers["Content-Type"] = "application/octet-stream";
+    init.body = bytes;
+  } else if (body !== undefined) {
     init.headers["Content-Type"] = "application/json";
     init.body = JSON.stringify(body);
   }

@@ -1,10 +1,34 @@
 // A built balloon against its design: the centreline measured on it (a
-// file or pasted x,y,z lines) sent to POST /v1/jobs/{id}/compare; the
-// figures, every patch's stretch (the one that diverges most marked) and
-// the measured centreline in 3D over the prediction.
+// file or pasted x,y,z lines) sent to POST /v1/jobs/{id}/compare, or a 3D
+// scan of it (a .ply, .obj, .stl, .xyz or .pts file) sent as it is to
+// POST /v1/jobs/{id}/compare/scan; the figures, every patch's stretch (the
+// one that diverges most marked) and the measured centreline in 3D over
+// the prediction.
 
 import { api } from "./api.js";
 import { $, el, num } from "./dom.js";
+
+const SCAN_FORMATS = ["ply", "obj", "stl", "xyz", "pts"];
+
+/** The scan format a file's name says, or null for a centreline. */
+function scanFormat(file) {
+  const extension = file?.name.split(".").pop().toLowerCase();
+  return SCAN_FORMATS.includes(extension) ? extension : null;
+}
+
+/** The comparison of job `jobId` with what the page holds: the file chosen
+ *  (a scan or a centreline) or the pasted lines. */
+async function measure(jobId) {
+  const file = $("#measured-file").files[0];
+  const units = $("#measured-units").value;
+  const format = scanFormat(file);
+  if (format) {
+    return api("POST", `/v1/jobs/${jobId}/compare/scan?format=${format}&units=${units}`, undefined, { bytes: file });
+  }
+  const csv = file ? await file.text() : $("#measured-text").value;
+  if (!csv.trim()) throw new Error("choose a file or paste the measured points");
+  return api("POST", `/v1/jobs/${jobId}/compare`, { measured: { csv }, units });
+}
 
 const shape = (f) => `${num(f.shape_error_percent, 3)} % of the length (${num(f.shape_error_mm, 3)} mm RMS), largest ${num(f.largest_mm, 3)} mm at ${num(100 * f.largest_at_fraction, 2)} % from the base`;
 
@@ -16,6 +40,8 @@ function facts(c) {
     ["vs prediction", shape(c.against_prediction)],
   ];
   if (c.against_target) rows.push(["vs target", shape(c.against_target)]);
+  if (c.radius) rows.push(["inflated radius", `${num(c.radius.measured_median_mm, 3)} mm measured, ${num(c.radius.predicted_median_mm, 3)} mm predicted (${num(c.radius.difference_percent, 2)} %)`]);
+  if (c.scan) rows.push(["scan", `${c.scan.points} points; centreline at ${c.scan.centreline_mm.length} cross-sections, ${num(c.scan.section_residual_mm, 2)} mm RMS off their circles`]);
   if (c.most_divergent_patch) rows.push(["diverges most", `P${c.most_divergent_patch}`]);
   return rows.flatMap(([k, v]) => [el("dt", { text: k }), el("dd", { text: v, "data-compare": k })]);
 }
@@ -42,16 +68,10 @@ export function offerComparison(page, jobId, draw) {
   $("#compare-facts").replaceChildren();
   $("#compare-table").replaceChildren();
   $("#compare").onclick = async () => {
-    const file = $("#measured-file").files[0];
-    const csv = file ? await file.text() : $("#measured-text").value;
     $("#compare-error").textContent = "";
-    if (!csv.trim()) {
-      $("#compare-error").textContent = "choose a file or paste the measured points";
-      return;
-    }
     $("#compare").disabled = true;
     try {
-      const c = await api("POST", `/v1/jobs/${jobId}/compare`, { measured: { csv }, units: $("#measured-units").value });
+      const c = await measure(jobId);
       page.comparison = c; // for the browser tests and the console
       $("#compare-facts").replaceChildren(...facts(c));
       $("#compare-table").replaceChildren(...table(c));

@@ -114,6 +114,18 @@ pub struct Simulation {
     pub patch_share: Vec<f64>,
 }
 
+impl Simulation {
+    /// How far the cap's pole (the mesh's last node) lies past the last
+    /// ring's centre along the centreline's end (mm): the inflated cap's
+    /// height, which a scan's centreline is cut by.
+    pub fn cap_height(&self) -> Option<f64> {
+        let points = self.centreline.points();
+        let (last, before) = (points.last()?, points.get(points.len().checked_sub(2)?)?);
+        let pole = self.positions.last()?;
+        Some((pole - last).dot(&(last - before).normalize()))
+    }
+}
+
 /// The most mesh nodes one solve may use: a solve takes about 8 KB of
 /// memory per node (docs/studies.md, "Forward solve"), so this is about
 /// 3 GB — a 5 m balloon on a uniform 0.5 mm mesh (the 2 m helix of the

@@ -19,6 +19,15 @@ pub struct DesignReport {
     /// The predicted (verified) inflated centreline: the centres of rings
     /// at equal steps of the uninflated balloon's length, base to tip.
     pub centreline_mm: Vec<[f64; 3]>,
+    /// The fitted radius of each ring of `centreline_mm` (mm); empty in
+    /// reports written before it was kept.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub centreline_radius_mm: Vec<f64>,
+    /// How far the inflated cap's pole lies past the last ring (mm): where
+    /// a scan's centreline stops being the tube's; absent in reports
+    /// written before it was kept.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cap_height_mm: Option<f64>,
     /// The target exactly as the user gave it (mm, before any smoothing):
     /// what `patchwork compare` measures a built balloon against; empty in
     /// reports written before it was kept.
@@ -94,6 +103,8 @@ impl DesignReport {
                 .iter()
                 .map(|p| [p.x, p.y, p.z])
                 .collect(),
+            centreline_radius_mm: outcome.simulation.rings.iter().map(|r| r.radius).collect(),
+            cap_height_mm: outcome.simulation.cap_height(),
             target_mm: outcome
                 .given
                 .points()

@@ -10,8 +10,9 @@ use serde::{Deserialize, Serialize};
 
 use super::error::LENGTH_FACTOR_LIMIT;
 use super::regions::{PatchRegion, patch_regions};
+use super::scan::ScanCentreline;
 use super::{CompareError, Prediction};
-use crate::curve::{AlignedSamples, Curve, CurveError};
+use crate::curve::{AlignedSamples, Curve, CurveError, interpolate};
 use crate::inverse::Smoothing;
 use crate::inverse::input::{InputReport, prepare};
 use crate::inverse::objective::{ObjectiveOptions, SHAPE_SAMPLES, TargetProfiles};
@@ -75,6 +76,17 @@ pub struct ComparedProfiles {
     pub target_torsion_per_mm: Vec<f64>,
 }
 
+/// The inflated radius measured (from a scan) against the prediction's,
+/// both sampled at the same equal fractions of their lengths.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RadiusFigures {
+    /// Medians along the length (mm).
+    pub measured_median_mm: f64,
+    pub predicted_median_mm: f64,
+    /// (measured − predicted) / predicted, %.
+    pub difference_percent: f64,
+}
+
 /// A built balloon's centreline against its design (`compare.json`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Comparison {
@@ -105,6 +117,50 @@ pub struct Comparison {
     /// The measured centreline moved rigidly onto the prediction (the
     /// shape error's alignment), at `PROFILE_SAMPLES` equal steps (mm).
     pub measured_aligned_mm: Vec<[f64; 3]>,
+    /// What the scan gave, when the centreline was taken off a scan: the
+    /// centreline and radius extracted, the points used.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scan: Option<ScanCentreline>,
+    /// The scan's radius against the prediction's; absent without a scan
+    /// or a predicted radius (reports written before it was kept).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<RadiusFigures>,
+}
+
+/// Compares the centreline extracted from a scan with `prediction`: the
+/// end that fits the prediction's tip is the tip, its cap cut off
+/// ([`ScanCentreline::base_to_tip`]); and the scan's radius with the
+/// prediction's, at the same fractions of length.
+pub fn compare_scan(
+    prediction: &Prediction,
+    scan: &ScanCentreline,
+) -> Result<Comparison, CompareError> {
+    let (_, reversed) = oriented(&scan.curve()?, &prediction.centreline)?;
+    let scan = scan.base_to_tip(!reversed, prediction.cap_height);
+    let measured = scan.curve()?;
+    let mut comparison = compare(prediction, &measured)?;
+    if let Some((fractions, predicted)) = prediction.radius_profile() {
+        let s = measured.arc_length();
+        let along: Vec<f64> = s.iter().map(|v| v / measured.length()).collect();
+        let median = |values: &[f64], at: &[f64]| {
+            let mut sampled: Vec<f64> = (0..PROFILE_SAMPLES)
+                .map(|i| interpolate(at, values, i as f64 / (PROFILE_SAMPLES - 1) as f64))
+                .collect();
+            sampled.sort_by(f64::total_cmp);
+            sampled[sampled.len() / 2]
+        };
+        let (m, p) = (
+            median(&scan.radius_mm, &along),
+            median(&predicted, &fractions),
+        );
+        comparison.radius = Some(RadiusFigures {
+            measured_median_mm: m,
+            predicted_median_mm: p,
+            difference_percent: 100.0 * (m - p) / p,
+        });
+    }
+    comparison.scan = Some(scan);
+    Ok(comparison)
 }
 
 /// Compares `measured` (base to tip or tip to base, mm) with `prediction`.
@@ -125,39 +181,31 @@ pub fn compare(prediction: &Prediction, measured: &Curve) -> Result<Comparison, 
         false => smoothed,
     };
     let (aligned, against_prediction) = aligned_figures(&oriented, predicted)?;
-    let options = ObjectiveOptions::default();
-    let profile = |curve: &Curve| {
-        defined_torsion(
-            TargetProfiles::new(curve, PROFILE_SAMPLES, &options),
-            options.torsion_kappa_min,
-        )
-    };
-    let (mut measured_profiles, predicted_profiles) =
-        (profile(&dense(&smoothed)?), profile(&dense(predicted)?));
-    if input.planar {
-        // In a plane within the noise found: what torsion its samples show
-        // is noise.
-        measured_profiles.torsion.fill(0.0);
-    }
     let target = match &prediction.target {
         Some(target) => Some((target, prepare(target, Smoothing::Auto, kappa_tol)?.0)),
         None => None,
     };
-    let target_profiles = match &target {
-        Some((_, prepared)) => Some(profile(&dense(prepared)?)),
-        None => None,
-    };
+    let profiles = Profiled::new(
+        &smoothed,
+        predicted,
+        target.as_ref().map(|t| &t.1),
+        input.planar,
+    )?;
     let patches = patch_regions(
         prediction,
         &smoothed,
-        &measured_profiles,
-        &predicted_profiles,
+        &profiles.measured,
+        &profiles.predicted,
     );
     let most_divergent_patch = patches
         .iter()
         .max_by(|a, b| a.local_error_percent.total_cmp(&b.local_error_percent))
         .map(|r| r.patch);
     let difference = smoothed.length() - prediction.length();
+    let against = |curve: &Curve| match &target {
+        Some((given, _)) => aligned_figures(curve, given).map(|f| Some(f.1)),
+        None => Ok(None),
+    };
     Ok(Comparison {
         measured: MeasuredSummary {
             points: measured.len(),
@@ -170,31 +218,67 @@ pub fn compare(prediction: &Prediction, measured: &Curve) -> Result<Comparison, 
         length_difference_mm: difference,
         length_difference_percent: 100.0 * difference / prediction.length(),
         against_prediction,
-        against_target: match &target {
-            Some((given, _)) => Some(aligned_figures(&oriented, given)?.1),
-            None => None,
-        },
-        prediction_against_target: match &target {
-            Some((given, _)) => Some(aligned_figures(predicted, given)?.1),
-            None => None,
-        },
-        profiles: ComparedProfiles {
-            fraction: (0..PROFILE_SAMPLES)
-                .map(|i| i as f64 / (PROFILE_SAMPLES - 1) as f64)
-                .collect(),
-            measured_curvature_per_mm: measured_profiles.curvature,
-            measured_torsion_per_mm: measured_profiles.torsion,
-            predicted_curvature_per_mm: predicted_profiles.curvature,
-            predicted_torsion_per_mm: predicted_profiles.torsion,
-            target_curvature_per_mm: target_profiles
-                .as_ref()
-                .map_or(Vec::new(), |t| t.curvature.clone()),
-            target_torsion_per_mm: target_profiles.map_or(Vec::new(), |t| t.torsion),
-        },
+        against_target: against(&oriented)?,
+        prediction_against_target: against(predicted)?,
+        profiles: profiles.compared(),
         patches,
         most_divergent_patch,
         measured_aligned_mm: aligned,
+        scan: None,
+        radius: None,
     })
+}
+
+/// The κ, τ profiles of the measured, predicted and target centrelines, as
+/// the objective takes them (sparse curves read through a spline first).
+struct Profiled {
+    measured: TargetProfiles,
+    predicted: TargetProfiles,
+    target: Option<TargetProfiles>,
+}
+
+impl Profiled {
+    /// `planar`: the measured points lie in a plane within their noise, and
+    /// what torsion its samples show is noise.
+    fn new(
+        measured: &Curve,
+        predicted: &Curve,
+        target: Option<&Curve>,
+        planar: bool,
+    ) -> Result<Profiled, CurveError> {
+        let options = ObjectiveOptions::default();
+        let profile = |curve: &Curve| -> Result<TargetProfiles, CurveError> {
+            let profiles = TargetProfiles::new(&dense(curve)?, PROFILE_SAMPLES, &options);
+            Ok(defined_torsion(profiles, options.torsion_kappa_min))
+        };
+        let mut measured = profile(measured)?;
+        if planar {
+            measured.torsion.fill(0.0);
+        }
+        Ok(Profiled {
+            measured,
+            predicted: profile(predicted)?,
+            target: target.map(profile).transpose()?,
+        })
+    }
+
+    fn compared(self) -> ComparedProfiles {
+        let (target_curvature_per_mm, target_torsion_per_mm) = match self.target {
+            Some(t) => (t.curvature, t.torsion),
+            None => (Vec::new(), Vec::new()),
+        };
+        ComparedProfiles {
+            fraction: (0..PROFILE_SAMPLES)
+                .map(|i| i as f64 / (PROFILE_SAMPLES - 1) as f64)
+                .collect(),
+            measured_curvature_per_mm: self.measured.curvature,
+            measured_torsion_per_mm: self.measured.torsion,
+            predicted_curvature_per_mm: self.predicted.curvature,
+            predicted_torsion_per_mm: self.predicted.torsion,
+            target_curvature_per_mm,
+            target_torsion_per_mm,
+        }
+    }
 }
 
 /// `curve` read through a cubic spline at `DENSE_SPACING_MM` steps when

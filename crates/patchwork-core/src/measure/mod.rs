@@ -13,9 +13,11 @@ mod error;
 mod plot;
 mod prediction;
 mod regions;
+pub mod scan;
 
 pub use compare::{
-    ComparedProfiles, Comparison, MeasuredSummary, PROFILE_SAMPLES, ShapeFigures, compare,
+    ComparedProfiles, Comparison, MeasuredSummary, PROFILE_SAMPLES, RadiusFigures, ShapeFigures,
+    compare, compare_scan,
 };
 pub use error::CompareError;
 pub use plot::comparison_svg;

@@ -14,6 +14,10 @@ struct DesignFile {
     design: Design,
     centreline_mm: Vec<[f64; 3]>,
     #[serde(default)]
+    centreline_radius_mm: Vec<f64>,
+    #[serde(default)]
+    cap_height_mm: Option<f64>,
+    #[serde(default)]
     target_mm: Vec<[f64; 3]>,
 }
 
@@ -30,6 +34,10 @@ pub struct Prediction {
     ring_y: Vec<f64>,
     /// The target as the user gave it, when known.
     pub target: Option<Curve>,
+    /// The fitted radius of each ring (mm); empty when not known.
+    pub radius: Vec<f64>,
+    /// How far the cap's pole lies past the last ring (mm), when known.
+    pub cap_height: Option<f64>,
 }
 
 impl Prediction {
@@ -64,6 +72,8 @@ impl Prediction {
             ring_s,
             ring_y,
             target,
+            radius: Vec::new(),
+            cap_height: None,
         })
     }
 
@@ -94,7 +104,27 @@ impl Prediction {
                     .map_err(|e| CompareError::Design(format!("target_mm: {e}")))?,
             ),
         };
-        Prediction::new(file.design, &points(&file.centreline_mm), target)
+        let mut prediction = Prediction::new(file.design, &points(&file.centreline_mm), target)?;
+        prediction.cap_height = file.cap_height_mm.filter(|h| h.is_finite() && *h >= 0.0);
+        Ok(
+            match file.centreline_radius_mm.len() == file.centreline_mm.len() {
+                true => Prediction {
+                    radius: file.centreline_radius_mm,
+                    ..prediction
+                },
+                false => prediction,
+            },
+        )
+    }
+
+    /// The same prediction with the rings' radii (one per centreline point)
+    /// and the cap's height.
+    pub fn with_radius(self, radius: Vec<f64>, cap_height: Option<f64>) -> Prediction {
+        Prediction {
+            radius,
+            cap_height,
+            ..self
+        }
     }
 
     /// The same prediction measured against `target` instead.
@@ -109,6 +139,16 @@ impl Prediction {
     /// balloon's axial position is `y_mm`.
     pub fn arc_length_at(&self, y_mm: f64) -> f64 {
         interpolate(&self.ring_y, &self.ring_s, y_mm)
+    }
+
+    /// The rings' radii at their fractions of the inflated length; none
+    /// when design.json did not keep them.
+    pub fn radius_profile(&self) -> Option<(Vec<f64>, Vec<f64>)> {
+        if self.radius.len() != self.ring_s.len() {
+            return None;
+        }
+        let fractions = self.ring_s.iter().map(|s| s / self.length()).collect();
+        Some((fractions, self.radius.clone()))
     }
 
     /// The predicted inflated length (mm).
