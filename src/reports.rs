@@ -6,7 +6,7 @@ use patchwork_core::curve::{AnalysisOptions, Curve, analyse};
 use patchwork_core::design::Patch;
 use patchwork_core::fe::Simulation;
 use patchwork_core::fe::contact::{SelfContact, self_contacts};
-use patchwork_core::ksa::KsaResult;
+use patchwork_core::ksa::{KsaParams, KsaResult};
 use serde::Serialize;
 
 /// A curve's length, curvature and torsion along it.
@@ -47,10 +47,14 @@ pub struct KsaReport {
     pub clipped: Vec<usize>,
     /// Number of curved stretches beyond the balloon's end (no patch placed).
     pub runs_off_balloon: usize,
+    /// The balloon the patches are placed on (KSA's L₀ and R₀): `simulate`
+    /// takes this report as the reference scene on that balloon.
+    pub balloon_length_mm: f64,
+    pub balloon_radius_mm: f64,
 }
 
 impl KsaReport {
-    pub fn new(curve: &Curve, result: KsaResult) -> KsaReport {
+    pub fn new(curve: &Curve, result: KsaResult, params: &KsaParams) -> KsaReport {
         KsaReport {
             stretch: result.stretch,
             curve_length_mm: curve.length(),
@@ -58,6 +62,8 @@ impl KsaReport {
             patches: result.patches,
             clipped: result.clipped,
             runs_off_balloon: result.off_balloon.len(),
+            balloon_length_mm: params.l0_mm,
+            balloon_radius_mm: params.r0_mm,
         }
     }
 }

@@ -335,6 +335,24 @@ fn simulate_takes_the_cut_element_rule() {
     );
 }
 
+/// KSA's first guess simulates as it is: its patches on its balloon (here
+/// one 250 mm long), without editing the JSON.
+#[test]
+fn simulate_takes_what_ksa_writes() {
+    let ksa = patchwork(&["ksa", HILBERT, "--json", "--l0-mm", "250"]);
+    let report = json(&ksa);
+    assert_eq!(report["balloon_length_mm"], 250.0);
+    assert_eq!(report["balloon_radius_mm"], 3.18);
+    let text = String::from_utf8(ksa.stdout).unwrap();
+    let simulated = json(&patchwork_with_stdin(
+        &["simulate", "-", "--json", "--mesh-mm", "2"],
+        &text,
+    ));
+    // The 250 mm balloon stretched about 3.3 times along its axis.
+    let length = simulated["inflated_length_mm"].as_f64().unwrap();
+    assert!((700.0..900.0).contains(&length), "{length}");
+}
+
 #[test]
 fn simulate_rejects_invalid_designs_naming_the_field() {
     let patch = |fields: &str| format!(r#"{{"patches": [{{{fields}}}]}}"#);

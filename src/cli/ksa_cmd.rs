@@ -56,7 +56,7 @@ pub fn run(args: KsaArgs) -> Result<()> {
         ..KsaParams::default()
     };
     let result = ksa(&curve, &params)?;
-    let report = KsaReport::new(&curve, result);
+    let report = KsaReport::new(&curve, result, &params);
     if args.json {
         return emit_json(&report);
     }

@@ -19,9 +19,9 @@ use crate::reports::SimulateReport;
 #[command(allow_negative_numbers = true)]
 pub struct SimulateArgs {
     /// Design JSON: {"balloon", "patch", "pressure_kpa", "patches": [...]}
-    /// (all but `patches` default to the reference scene), or the
-    /// design.json that `design` writes (its `design` is simulated); `-`
-    /// reads stdin.
+    /// (all but `patches` default to the reference scene), the design.json
+    /// that `design` writes (its `design` is simulated), or what `ksa --json`
+    /// writes (its patches on its balloon); `-` reads stdin.
     design: String,
     /// Print the result as JSON.
     #[arg(long)]
@@ -52,14 +52,37 @@ pub struct SimulateArgs {
     out: Option<PathBuf>,
 }
 
-/// A design, given as such or as the report `design` writes (an object
-/// with a `design` and no `patches` of its own).
+/// A design, given as such, as the report `design` writes (an object with
+/// a `design` and no `patches` of its own), or as `ksa --json` writes it
+/// (its patches on the reference scene with KSA's balloon length and
+/// radius).
 fn design_of(text: &str) -> Result<Design> {
     let value: serde_json::Value = serde_json::from_str(text)?;
+    if let Some(design) = ksa_design(&value)? {
+        return Ok(design);
+    }
     let inner = value
         .get("design")
         .filter(|_| value.get("patches").is_none());
     Ok(serde_json::from_value(inner.unwrap_or(&value).clone())?)
+}
+
+/// The design a KSA report describes; none for anything else.
+fn ksa_design(value: &serde_json::Value) -> Result<Option<Design>> {
+    let field = |name: &str| value.get(name).and_then(serde_json::Value::as_f64);
+    let (Some(length), Some(radius), Some(patches)) = (
+        field("balloon_length_mm"),
+        field("balloon_radius_mm"),
+        value
+            .get("patches")
+            .filter(|_| value.get("clipped").is_some()),
+    ) else {
+        return Ok(None);
+    };
+    let mut design = Design::reference(serde_json::from_value(patches.clone())?);
+    design.balloon.length_mm = length;
+    design.balloon.radius_mm = radius;
+    Ok(Some(design))
 }
 
 pub fn run(args: SimulateArgs) -> Result<()> {

@@ -117,7 +117,7 @@ pub async fn ksa_route(ApiJson(body): ApiJson<KsaRequest>) -> Result<Json<KsaRep
     };
     blocking(move || {
         ksa(&curve, &params)
-            .map(|r| Json(KsaReport::new(&curve, r)))
+            .map(|r| Json(KsaReport::new(&curve, r, &params)))
             .map_err(|e| Problem::invalid("curve", e.to_string()))
     })
     .await?

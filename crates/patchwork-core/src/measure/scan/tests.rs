@@ -210,3 +210,30 @@ fn every_format_reads_the_same_points_and_meshes_are_sampled_over_their_faces() 
     let error = read_scan(dangling.as_bytes(), ScanFormat::Ply, Units::Mm).unwrap_err();
     assert!(error.to_string().contains("vertex 7 of 3"), "{error}");
 }
+
+#[test]
+fn no_bytes_make_a_reader_panic() {
+    let mut rng = SeededRng::new(17);
+    let binary_header = b"ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nproperty float y\nproperty float z\nelement face 10\nproperty list uchar int vertex_indices\nend_header\n";
+    for round in 0..200 {
+        let length = (rng.uniform() * 400.0) as usize;
+        let noise: Vec<u8> = (0..length).map(|_| (rng.next_u64() & 0xff) as u8).collect();
+        let mut truncated = binary_header.to_vec();
+        truncated.extend(&noise);
+        for format in [
+            ScanFormat::Ply,
+            ScanFormat::Obj,
+            ScanFormat::Stl,
+            ScanFormat::Xyz,
+        ] {
+            for bytes in [&noise[..], &truncated[..]] {
+                // Errors are fine; a panic or non-finite points are not.
+                if let Ok(points) = read_scan(bytes, format, Units::Mm) {
+                    let finite = points.iter().all(|p| p.iter().all(|v| v.is_finite()));
+                    let rejected = centreline_from_scan(&points).is_err();
+                    assert!(finite || rejected, "round {round}, {format:?}");
+                }
+            }
+        }
+    }
+}
