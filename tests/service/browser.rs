@@ -172,6 +172,8 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
     lines.reverse();
     let measured = dir.path().join("measured.csv");
     std::fs::write(&measured, lines.join("\n")).unwrap();
+    let count_paths = "return document.querySelectorAll('#profiles path').length";
+    let before = page.execute(count_paths, json!([])).await;
     page.choose_file("#measured-file", &measured).await;
     page.click("#compare").await;
     let compared = page
@@ -196,6 +198,9 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
         )
         .await;
     assert_eq!(rows, json!(comparison["patches"].as_array().unwrap().len()));
+    // The built balloon's κ and τ join the profiles.
+    let after = page.execute(count_paths, json!([])).await;
+    assert!(after.as_u64() > before.as_u64(), "{before} → {after}");
     assert_eq!(
         page.execute("return window.patchwork.view.has('measured')", json!([]))
             .await,

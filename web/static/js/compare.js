@@ -60,8 +60,8 @@ function table(c) {
   return [el("thead", {}, el("tr", {}, ...heads.map((h) => el("th", { scope: "col", text: h })))), el("tbody", {}, ...rows)];
 }
 
-/** Offers the comparison for job `jobId`; `draw(points)` puts the measured
- *  centreline (in the prediction's frame) on the 3D view. */
+/** Offers the comparison for job `jobId`; `draw(comparison)` puts what
+ *  was measured on the 3D view and the profiles. */
 export function offerComparison(page, jobId, draw) {
   $("#compare-panel").hidden = false;
   $("#compare-error").textContent = "";
@@ -75,7 +75,7 @@ export function offerComparison(page, jobId, draw) {
       page.comparison = c; // for the browser tests and the console
       $("#compare-facts").replaceChildren(...facts(c));
       $("#compare-table").replaceChildren(...table(c));
-      draw(c.measured_aligned_mm);
+      draw(c);
     } catch (error) {
       $("#compare-error").textContent = error.field ? `${error.field}: ${error.message}` : error.message;
     } finally {

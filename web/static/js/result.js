@@ -78,10 +78,11 @@ export async function showResult(page, jobId, result, preview) {
       colour: "#1f6feb", label: "designed balloon, inflated (centreline)", radius: page.tubeRadius * 0.8 });
     page.view.fit();
   }
-  if (preview) page.showProfiles(preview, [
+  const designed = [
     { name: "κ design", y: result.profiles.curvature_per_mm, colour: "#1f6feb" },
     { name: "τ design", y: result.profiles.torsion_per_mm, colour: "#d9480f" },
-  ], result.target_length_mm);
+  ];
+  if (preview) page.showProfiles(preview, designed, result.target_length_mm);
   $("#unrolled-caption").textContent = "The design's patches on the unrolled balloon (as cut)";
   drawUnrolled($("#unrolled"), {
     lengthMm: result.design.balloon.length_mm, radiusMm: result.design.balloon.radius_mm, patches: result.design.patches });
@@ -90,10 +91,15 @@ export async function showResult(page, jobId, result, preview) {
     button.onclick = () => download(jobId, button.dataset.file).catch((e) => ($("#job-error").textContent = e.message));
   }
   showTemplate(jobId);
-  offerComparison(page, jobId, (points) => {
-    page.view.curve("measured", points.map(placed), {
+  offerComparison(page, jobId, (comparison) => {
+    page.view.curve("measured", comparison.measured_aligned_mm.map(placed), {
       colour: "#e8590c", label: "built balloon, measured (centreline)", radius: page.tubeRadius * 0.8 });
     page.view.render();
+    // The built balloon's κ and τ beside the design's and the target's.
+    if (preview) page.showProfiles(preview, [...designed,
+      { name: "κ built", y: comparison.profiles.measured_curvature_per_mm, colour: "#2b8a3e" },
+      { name: "τ built", y: comparison.profiles.measured_torsion_per_mm, colour: "#862e9c" },
+    ], result.target_length_mm);
   });
   if (target) await inflate(page, result.design, target, "surface", "inflated membrane");
 }
