@@ -1,6 +1,7 @@
 //! Command-line contract. Scripts depend on these names: change with care.
 
 mod bench;
+mod calibrate_cmd;
 mod compare_cmd;
 mod curve_cmd;
 pub(crate) mod design_cmd;
@@ -54,6 +55,12 @@ enum Command {
         after_help = "Example:\n  patchwork compare grasp/design.json measured.csv --out grasp/compare"
     )]
     Compare(compare_cmd::CompareArgs),
+    /// The balloon's material fitted to its measured inflation (length and
+    /// diameter at pressures), by least squares on the FE model.
+    #[command(
+        after_help = "Example:\n  patchwork calibrate inflation.csv --out my-balloon.json && patchwork design grasp.csv --options my-balloon.json --out grasp/"
+    )]
+    Calibrate(calibrate_cmd::CalibrateArgs),
     /// Run time against error: a fixed suite of curves × fidelity settings.
     #[command(after_help = "Example:\n  patchwork bench --quick --out bench-out")]
     Bench(bench::BenchArgs),
@@ -80,6 +87,7 @@ pub fn run() -> Result<()> {
         Command::Simulate(args) => simulate_cmd::run(args),
         Command::Design(args) => design_cmd::run(args),
         Command::Compare(args) => compare_cmd::run(args),
+        Command::Calibrate(args) => calibrate_cmd::run(args),
         Command::Serve(args) => crate::service::run(args),
         Command::CopyJobs(args) => crate::service::copy_jobs::run(args),
         Command::Bench(args) => bench::run(args),

@@ -8,6 +8,7 @@
 //! Units everywhere: millimetres, radians internally (degrees only at the JSON
 //! boundary, named `*_deg`), curvature and torsion in mm⁻¹.
 
+pub mod calibrate;
 pub mod chart;
 pub mod cmaes;
 pub mod curve;

@@ -1,0 +1,135 @@
+//! Levenberg–Marquardt on the logarithms of the parameters (so they stay
+//! positive and their steps are relative), the Jacobian by forward
+//! differences; then the parameters' covariance σ² (JᵀJ)⁻¹ with
+//! σ² = RSS / (m − n), their 95 % intervals from Student's t, and their
+//! correlations.
+
+use nalgebra::{DMatrix, DVector};
+
+/// Relative step of the forward differences (in log space).
+const STEP: f64 = 1e-3;
+const MAX_ITERATIONS: usize = 30;
+
+/// A least-squares fit of `n` log-parameters.
+pub struct Fit {
+    pub log_values: Vec<f64>,
+    pub residuals: Vec<f64>,
+    /// Standard deviations of the log-parameters; none without more data
+    /// than parameters.
+    pub log_sd: Option<Vec<f64>>,
+    pub correlation: Option<DMatrix<f64>>,
+    pub degrees_of_freedom: usize,
+    pub evaluations: usize,
+}
+
+/// Minimises |r(x)|² from `start`; `r` answers none where the model has no
+/// answer (a step there is refused).
+pub fn levenberg_marquardt(start: Vec<f64>, r: &dyn Fn(&[f64]) -> Option<Vec<f64>>) -> Option<Fit> {
+    let mut x = start;
+    let mut rx = r(&x)?;
+    let mut evaluations = 1;
+    let mut damping = 1e-3;
+    let cost = |v: &[f64]| v.iter().map(|e| e * e).sum::<f64>();
+    let mut jacobian = jacobian_at(&x, &rx, r, &mut evaluations)?;
+    for _ in 0..MAX_ITERATIONS {
+        let jtj = jacobian.transpose() * &jacobian;
+        let g = jacobian.transpose() * DVector::from_column_slice(&rx);
+        let mut a = jtj.clone();
+        for i in 0..x.len() {
+            a[(i, i)] += damping * jtj[(i, i)].max(1e-12);
+        }
+        let Some(step) = a.lu().solve(&(-g)) else {
+            break;
+        };
+        let trial: Vec<f64> = x.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
+        evaluations += 1;
+        match r(&trial) {
+            Some(rt) if cost(&rt) < cost(&rx) => {
+                let gain = cost(&rx) - cost(&rt);
+                x = trial;
+                rx = rt;
+                damping = (damping / 3.0).max(1e-9);
+                if gain < 1e-12 * cost(&rx).max(1e-30) || step.norm() < 1e-8 {
+                    break;
+                }
+                match jacobian_at(&x, &rx, r, &mut evaluations) {
+                    Some(j) => jacobian = j,
+                    None => break,
+                }
+            }
+            _ => {
+                damping *= 4.0;
+                if damping > 1e8 {
+                    break;
+                }
+            }
+        }
+    }
+    Some(statistics(x, rx, &jacobian, evaluations))
+}
+
+fn jacobian_at(
+    x: &[f64],
+    rx: &[f64],
+    r: &dyn Fn(&[f64]) -> Option<Vec<f64>>,
+    evaluations: &mut usize,
+) -> Option<DMatrix<f64>> {
+    let mut j = DMatrix::zeros(rx.len(), x.len());
+    for k in 0..x.len() {
+        // Forward, or backward where the model has no answer forward (the
+        // balloon past its limit point).
+        let column = [STEP, -STEP].into_iter().find_map(|h| {
+            let mut xk = x.to_vec();
+            xk[k] += h;
+            *evaluations += 1;
+            r(&xk).map(|rk| (h, rk))
+        });
+        let (h, rk) = column?;
+        for i in 0..rx.len() {
+            j[(i, k)] = (rk[i] - rx[i]) / h;
+        }
+    }
+    Some(j)
+}
+
+fn statistics(x: Vec<f64>, rx: Vec<f64>, j: &DMatrix<f64>, evaluations: usize) -> Fit {
+    let (m, n) = (rx.len(), x.len());
+    let dof = m.saturating_sub(n);
+    let rss: f64 = rx.iter().map(|e| e * e).sum();
+    let covariance = (dof > 0)
+        .then(|| (j.transpose() * j).try_inverse())
+        .flatten()
+        .map(|inverse| inverse * (rss / dof as f64));
+    let log_sd = covariance.as_ref().map(|c| {
+        (0..n)
+            .map(|i| c[(i, i)].max(0.0).sqrt())
+            .collect::<Vec<f64>>()
+    });
+    let correlation = covariance.as_ref().map(|c| {
+        DMatrix::from_fn(n, n, |a, b| {
+            c[(a, b)] / (c[(a, a)] * c[(b, b)]).sqrt().max(1e-300)
+        })
+    });
+    Fit {
+        log_values: x,
+        residuals: rx,
+        log_sd,
+        correlation,
+        degrees_of_freedom: dof,
+        evaluations,
+    }
+}
+
+/// Student's t two-sided 95 % quantile for `dof` degrees of freedom.
+pub fn t95(dof: usize) -> f64 {
+    const TABLE: [f64; 30] = [
+        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160,
+        2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056,
+        2.052, 2.048, 2.045, 2.042,
+    ];
+    match dof {
+        0 => f64::INFINITY,
+        1..=30 => TABLE[dof - 1],
+        _ => 1.96,
+    }
+}
