@@ -106,12 +106,8 @@ pub async fn job_scan_route(
     uri: Uri,
     body: Body,
 ) -> Result<Json<Comparison>, Problem> {
-    let (format, units) = scan_query(uri.query().unwrap_or(""))?;
-    let row = owned(&state, &owner, &id).await?;
-    let Some(result) = state.store.result(&id).await? else {
-        return Err(not_ready(&row));
-    };
-    let prediction = Prediction::from_design_json(&result).map_err(Problem::internal)?;
+    // The body is read before anything is answered: a refusal sent while
+    // the client is still uploading would be lost to the connection's reset.
     let limit = state.config.scan_limit_bytes;
     let bytes = axum::body::to_bytes(body, limit).await.map_err(|_| {
         Problem::new(
@@ -119,6 +115,12 @@ pub async fn job_scan_route(
             format!("the scan is over the limit of {limit} bytes"),
         )
     })?;
+    let (format, units) = scan_query(uri.query().unwrap_or(""))?;
+    let row = owned(&state, &owner, &id).await?;
+    let Some(result) = state.store.result(&id).await? else {
+        return Err(not_ready(&row));
+    };
+    let prediction = Prediction::from_design_json(&result).map_err(Problem::internal)?;
     tokio::task::spawn_blocking(move || {
         let points = read_scan(&bytes, format, units)
             .map_err(|e| Problem::invalid("scan", e.to_string()))?;
