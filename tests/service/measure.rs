@@ -8,6 +8,19 @@ use serde_json::{Value, json};
 
 use crate::support::*;
 
+/// The job's design.json, once it has succeeded.
+async fn finished_result(api: &Api, id: &str) -> Value {
+    let job = api
+        .wait_for(id, &["succeeded"], Duration::from_secs(120))
+        .await;
+    assert_eq!(job["status"], "succeeded");
+    api.get(&format!("/v1/jobs/{id}/result"))
+        .await
+        .json()
+        .await
+        .unwrap()
+}
+
 #[tokio::test(flavor = "multi_thread")]
 async fn a_measured_centreline_is_compared_with_its_jobs_design() {
     let server = Server::start();
@@ -21,16 +34,7 @@ async fn a_measured_centreline_is_compared_with_its_jobs_design() {
         )
         .await;
     assert!([200, 409].contains(&early.status().as_u16()));
-    let job = api
-        .wait_for(&id, &["succeeded"], Duration::from_secs(120))
-        .await;
-    assert_eq!(job["status"], "succeeded");
-    let result: Value = api
-        .get(&format!("/v1/jobs/{id}/result"))
-        .await
-        .json()
-        .await
-        .unwrap();
+    let result = finished_result(&api, &id).await;
     assert!(!result["target_mm"].as_array().unwrap().is_empty());
 
     // The balloon built exactly as predicted, its points given tip to base.
@@ -157,16 +161,7 @@ async fn a_scan_of_the_built_balloon_is_compared_with_its_jobs_design() {
     });
     let api = server.api();
     let id = api.submit(&quick_job(20)).await;
-    let job = api
-        .wait_for(&id, &["succeeded"], Duration::from_secs(120))
-        .await;
-    assert_eq!(job["status"], "succeeded");
-    let result: Value = api
-        .get(&format!("/v1/jobs/{id}/result"))
-        .await
-        .json()
-        .await
-        .unwrap();
+    let result = finished_result(&api, &id).await;
     let ply = surface_ply(&api, &result["design"]).await;
     assert!(ply.len() > 100_000, "{} bytes", ply.len());
     let upload = |query: &str, body: Vec<u8>| {

@@ -12,7 +12,7 @@ use super::error::LENGTH_FACTOR_LIMIT;
 use super::regions::{PatchRegion, patch_regions};
 use super::scan::ScanCentreline;
 use super::{CompareError, Prediction};
-use crate::curve::{AlignedSamples, Curve, CurveError, interpolate};
+use crate::curve::{AlignedSamples, Curve, CurveError, interpolate, shape_error};
 use crate::inverse::Smoothing;
 use crate::inverse::input::{InputReport, prepare};
 use crate::inverse::objective::{ObjectiveOptions, SHAPE_SAMPLES, TargetProfiles};
@@ -313,7 +313,7 @@ fn oriented(measured: &Curve, predicted: &Curve) -> Result<(Curve, bool), CurveE
     let mut points = measured.points().to_vec();
     points.reverse();
     let reversed = Curve::from_points(points)?;
-    let error = |c: &Curve| aligned_figures(c, predicted).map(|f| f.1.shape_error_mm);
+    let error = |c: &Curve| shape_error(c, predicted, SHAPE_SAMPLES).map(|e| e.rms_mm);
     match error(&reversed)? < error(measured)? {
         true => Ok((reversed, true)),
         false => Ok((measured.clone(), false)),

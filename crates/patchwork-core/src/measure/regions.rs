@@ -51,6 +51,8 @@ pub(super) fn patch_regions(
 ) -> Vec<PatchRegion> {
     let predicted = &prediction.centreline;
     let length = prediction.design.balloon.length_mm;
+    // Both profiles are sampled alike: equal fractions of length.
+    let fractions = grid(predicted_profiles);
     prediction
         .design
         .patches
@@ -61,38 +63,21 @@ pub(super) fn patch_regions(
             let fraction =
                 |y: f64| prediction.arc_length_at(y.clamp(0.0, length)) / prediction.length();
             let (from, to) = (fraction(patch.y_mm - e), fraction(patch.y_mm + e));
-            let integral = |profile: &TargetProfiles, values: &[f64], total: f64| {
-                integrate(&grid(profile), values, from, to) * total
-            };
+            let integral =
+                |values: &[f64], total: f64| integrate(&fractions, values, from, to) * total;
             let (local_error_mm, stretch_mm) = local_error(predicted, measured, from, to);
             PatchRegion {
                 patch: index + 1,
                 from_fraction: from,
                 to_fraction: to,
-                predicted_bend_deg: integral(
-                    predicted_profiles,
-                    &predicted_profiles.curvature,
-                    predicted.length(),
-                )
-                .to_degrees(),
-                measured_bend_deg: integral(
-                    measured_profiles,
-                    &measured_profiles.curvature,
-                    measured.length(),
-                )
-                .to_degrees(),
-                predicted_twist_deg: integral(
-                    predicted_profiles,
-                    &predicted_profiles.torsion,
-                    predicted.length(),
-                )
-                .to_degrees(),
-                measured_twist_deg: integral(
-                    measured_profiles,
-                    &measured_profiles.torsion,
-                    measured.length(),
-                )
-                .to_degrees(),
+                predicted_bend_deg: integral(&predicted_profiles.curvature, predicted.length())
+                    .to_degrees(),
+                measured_bend_deg: integral(&measured_profiles.curvature, measured.length())
+                    .to_degrees(),
+                predicted_twist_deg: integral(&predicted_profiles.torsion, predicted.length())
+                    .to_degrees(),
+                measured_twist_deg: integral(&measured_profiles.torsion, measured.length())
+                    .to_degrees(),
                 local_error_mm,
                 local_error_percent: 100.0 * local_error_mm / stretch_mm.max(1e-9),
             }
