@@ -1,16 +1,23 @@
-//! `patchwork calibrate DATA.csv [--balloon JSON] [--fit modulus,lambda_m]
-//! [--json] [--out FILE]`: the balloon's material fitted to its measured
-//! inflation.
+//! `patchwork calibrate [INFLATION.csv] [--volume PV.csv] [--built
+//! DESIGN.json=MEASURED]... [--balloon JSON] [--patch JSON] [--fit LIST]
+//! [--units U] [--json] [--out FILE]`: the materials fitted to what was
+//! measured on the lab's own balloons.
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
-use patchwork_core::calibrate::{Calibration, Inflation, Parameter, calibrate};
-use patchwork_core::design::Balloon;
+use patchwork_core::calibrate::{
+    Built, Calibration, Inflation, Measurements, Parameter, PressureVolume, calibrate,
+};
+use patchwork_core::curve::Units;
+use patchwork_core::design::{Balloon, PatchSpec};
 use patchwork_core::material::Law;
+use patchwork_core::measure::Prediction;
 
-use super::input::{json_argument, read_text_argument};
+use super::calibrate_table::{Table, read_table};
+use super::compare_cmd::compare_measured;
+use super::input::{json_argument, parse_units, read_text_argument};
 use super::output::{emit, emit_json};
 
 #[derive(Args)]
@@ -19,45 +26,67 @@ pub struct CalibrateArgs {
     /// `pressure_kpa` and `length_mm` (clamp to tip) and/or `diameter_mm`
     /// (across the middle), one pressure per line; an empty cell is not
     /// measured. `-` reads stdin.
-    data: String,
+    inflation: Option<String>,
+    /// The bare balloon's pressure–volume curve: CSV with `pressure_kpa`
+    /// and `volume_ml` columns (the volume inside the balloon: pumped in
+    /// plus the uninflated balloon's own). Points past the pressure's peak
+    /// are left out, and said.
+    #[arg(long, value_name = "CSV")]
+    volume: Option<String>,
+    /// A balloon built from a design and measured: `DESIGN.json=MEASURED`,
+    /// the design.json that `design` wrote and the measured centreline
+    /// file or 3D scan (as `compare` takes them). Repeat for more.
+    #[arg(long, value_name = "DESIGN=MEASURED")]
+    built: Vec<String>,
+    /// Units of the measured centrelines and scans.
+    #[arg(long, default_value = "mm", value_parser = parse_units)]
+    units: Units,
     /// The uninflated balloon and the material to start from (design
-    /// JSON's `balloon`: length_mm, radius_mm, wall_mm, material) [default:
-    /// the reference scene's].
+    /// JSON's `balloon`) [default: the first built design's, else the
+    /// reference scene's].
     #[arg(long)]
     balloon: Option<String>,
+    /// The patch (design JSON's `patch`) to start from [default: the first
+    /// built design's, else the reference scene's].
+    #[arg(long)]
+    patch: Option<String>,
     /// The parameters to fit, comma-separated: `modulus` (every modulus of
-    /// the law scaled alike), `lambda_m` (Arruda–Boyce), `jm` (Gent),
-    /// `bulk_ratio` [default: modulus and the law's stiffening].
+    /// the balloon's law scaled alike), `lambda_m` (Arruda–Boyce), `jm`
+    /// (Gent), `bulk_ratio`, `patch_modulus` (needs --built) [default: the
+    /// modulus and the law's stiffening from bare-balloon data, the modulus
+    /// and the patch's from built designs alone].
     #[arg(long)]
     fit: Option<String>,
     /// Print the calibration as JSON.
     #[arg(long)]
     json: bool,
-    /// Write `{"balloon": …}` with the calibrated material here: what
-    /// `design --options` and `simulate` take.
+    /// Write `{"balloon": …, "patch": …}` with the calibrated materials
+    /// here: what `design --options` and `simulate` take.
     #[arg(long)]
     out: Option<PathBuf>,
 }
 
 pub fn run(args: CalibrateArgs) -> Result<()> {
-    let data = read_data(&read_text_argument(&args.data)?).with_context(|| args.data.clone())?;
+    let data = measurements(&args)?;
+    let first = data.built.first().map(|b| &b.design);
     let balloon: Balloon = match &args.balloon {
         Some(text) => json_argument("balloon", text)?,
-        None => Balloon::default(),
+        None => first.map_or_else(Balloon::default, |d| d.balloon.clone()),
     };
-    balloon
-        .material
-        .validate()
-        .map_err(|e| anyhow!("--balloon: {e}"))?;
-    let fit = parameters(args.fit.as_deref(), &balloon)?;
-    let calibration = calibrate(&balloon, &data, &fit)?;
+    let patch: PatchSpec = match &args.patch {
+        Some(text) => json_argument("patch", text)?,
+        None => first.map_or_else(PatchSpec::default, |d| d.patch.clone()),
+    };
+    for (flag, material) in [
+        ("--balloon", &balloon.material),
+        ("--patch", &patch.material),
+    ] {
+        material.validate().map_err(|e| anyhow!("{flag}: {e}"))?;
+    }
+    let fit = parameters(args.fit.as_deref(), &balloon, &data)?;
+    let calibration = calibrate(&balloon, &patch.material, &data, &fit)?;
     if let Some(path) = &args.out {
-        let options = serde_json::json!({"balloon": Balloon {
-            material: calibration.material.clone(),
-            ..balloon
-        }});
-        std::fs::write(path, serde_json::to_string_pretty(&options)? + "\n")
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        write_options(path, &calibration, balloon, patch)?;
     }
     match args.json {
         true => emit_json(&calibration),
@@ -65,62 +94,128 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
     }
 }
 
-/// The CSV's inflations; errors name the line and the column.
-fn read_data(text: &str) -> Result<Vec<Inflation>> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-    let (_, header) = lines.next().ok_or_else(|| anyhow!("no header line"))?;
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let column = |name: &str| names.iter().position(|n| *n == name);
-    let pressure =
-        column("pressure_kpa").ok_or_else(|| anyhow!("line 1: no `pressure_kpa` column"))?;
-    let (length, diameter) = (column("length_mm"), column("diameter_mm"));
-    if length.is_none() && diameter.is_none() {
-        bail!("line 1: neither a `length_mm` nor a `diameter_mm` column");
+/// Writes `{"balloon": …, "patch": …}` with the calibrated materials.
+pub fn write_options(
+    path: &std::path::Path,
+    calibration: &Calibration,
+    balloon: Balloon,
+    patch: PatchSpec,
+) -> Result<()> {
+    let options = serde_json::json!({
+        "balloon": Balloon { material: calibration.material.clone(), ..balloon },
+        "patch": PatchSpec { material: calibration.patch_material.clone(), ..patch },
+    });
+    std::fs::write(path, serde_json::to_string_pretty(&options)? + "\n")
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+fn measurements(args: &CalibrateArgs) -> Result<Measurements> {
+    let mut data = Measurements::default();
+    if let Some(path) = &args.inflation {
+        let table = read_table(
+            &read_text_argument(path)?,
+            &["pressure_kpa"],
+            &["length_mm", "diameter_mm"],
+        )
+        .with_context(|| path.clone())?;
+        data.inflation = inflations(&table).with_context(|| path.clone())?;
     }
-    lines
-        .map(|(number, line)| {
-            let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-            let cell = |index: Option<usize>| -> Result<Option<f64>> {
-                match index.and_then(|i| cells.get(i)).filter(|c| !c.is_empty()) {
-                    None => Ok(None),
-                    Some(text) => text
-                        .parse()
-                        .map(Some)
-                        .map_err(|_| anyhow!("line {}: {text:?} is not a number", number + 1)),
-                }
-            };
+    if let Some(path) = &args.volume {
+        let table = read_table(
+            &read_text_argument(path)?,
+            &["pressure_kpa", "volume_ml"],
+            &[],
+        )
+        .with_context(|| format!("--volume {path}"))?;
+        data.pressure_volume = table
+            .rows
+            .iter()
+            .map(|(_, cells)| PressureVolume {
+                pressure_kpa: cells[0].unwrap_or(f64::NAN),
+                volume_ml: cells[1].unwrap_or(f64::NAN),
+            })
+            .collect();
+    }
+    for pair in &args.built {
+        data.built.push(built(pair, args.units)?);
+    }
+    if data.inflation.is_empty() && data.pressure_volume.is_empty() && data.built.is_empty() {
+        bail!("nothing measured: give an inflation CSV, --volume or --built");
+    }
+    Ok(data)
+}
+
+fn inflations(table: &Table) -> Result<Vec<Inflation>> {
+    if !table.has(1) && !table.has(2) {
+        bail!("no `length_mm` or `diameter_mm` column");
+    }
+    if table.rows.is_empty() {
+        bail!("no measured lines");
+    }
+    table
+        .rows
+        .iter()
+        .map(|(line, cells)| {
             Ok(Inflation {
-                pressure_kpa: cell(Some(pressure))?
-                    .ok_or_else(|| anyhow!("line {}: no pressure", number + 1))?,
-                length_mm: cell(length)?,
-                diameter_mm: cell(diameter)?,
+                pressure_kpa: cells[0].ok_or_else(|| anyhow!("line {line}: no pressure"))?,
+                length_mm: cells[1],
+                diameter_mm: cells[2],
             })
         })
         .collect()
 }
 
-fn parameters(names: Option<&str>, balloon: &Balloon) -> Result<Vec<Parameter>> {
+/// `DESIGN.json=MEASURED`: the design and its measured centreline, base to
+/// tip (a scan's as extracted and cut at the cap).
+fn built(pair: &str, units: Units) -> Result<Built> {
+    let (design, measured) = pair
+        .split_once('=')
+        .ok_or_else(|| anyhow!("--built {pair}: give DESIGN.json=MEASURED"))?;
+    let prediction = Prediction::from_design_json(&read_text_argument(design)?)
+        .with_context(|| format!("--built {design}"))?;
+    let (_, centreline_mm) = compare_measured(&prediction, measured, units)
+        .with_context(|| format!("--built {measured}"))?;
+    Ok(Built {
+        design: prediction.design,
+        centreline_mm,
+    })
+}
+
+/// The parameters named, or the default for the data and the law.
+fn parameters(
+    names: Option<&str>,
+    balloon: &Balloon,
+    data: &Measurements,
+) -> Result<Vec<Parameter>> {
     let Some(names) = names else {
-        return Ok(match balloon.material.law {
-            Law::ArrudaBoyce { .. } => vec![Parameter::Modulus, Parameter::LambdaM],
-            Law::Gent { .. } => vec![Parameter::Modulus, Parameter::Jm],
-            _ => vec![Parameter::Modulus],
-        });
+        let stiffening = match balloon.material.law {
+            Law::ArrudaBoyce { .. } => Some(Parameter::LambdaM),
+            Law::Gent { .. } => Some(Parameter::Jm),
+            _ => None,
+        };
+        let bare = !(data.inflation.is_empty() && data.pressure_volume.is_empty());
+        let patch = !data.built.is_empty();
+        return Ok([Some(Parameter::Modulus)]
+            .into_iter()
+            .chain([
+                stiffening.filter(|_| bare),
+                patch.then_some(Parameter::PatchModulus),
+            ])
+            .flatten()
+            .collect());
     };
     names
         .split(',')
         .map(|n| {
             Parameter::from_name(n.trim()).ok_or_else(|| {
-                anyhow!("--fit: unknown parameter {n:?}: use modulus, lambda_m, jm or bulk_ratio")
+                anyhow!("--fit: unknown parameter {n:?}: use {}", Parameter::names())
             })
         })
         .collect()
 }
 
-fn summary(c: &Calibration) -> String {
+/// The calibration as a person reads it.
+pub fn summary(c: &Calibration) -> String {
     let mut text = format!(
         "calibrated:   {} FE solves, residuals {:.2} % RMS\n",
         c.solves, c.rms_percent
@@ -130,7 +225,7 @@ fn summary(c: &Calibration) -> String {
             format!("95 %: {lo:.4} – {hi:.4}")
         });
         text += &format!(
-            "  {:<10} {:.4}  ({interval}; from {:.4})\n",
+            "  {:<14} {:.4}  ({interval}; from {:.4})\n",
             p.parameter.name(),
             p.value,
             p.start
@@ -142,11 +237,22 @@ fn summary(c: &Calibration) -> String {
             r.pressure_kpa, r.quantity, r.measured, r.predicted, r.percent
         );
     }
+    for b in &c.built {
+        text += &format!(
+            "  built {}: model against the measured centreline {:.2} % of its length (from {:.2} % before), length {:.1} mm measured, {:.1} mm model\n",
+            b.index + 1,
+            b.shape_error_percent,
+            b.shape_error_start_percent,
+            b.measured_length_mm,
+            b.predicted_length_mm
+        );
+    }
     for w in &c.warnings {
         text += &format!("warning:      {w}\n");
     }
     text + &format!(
-        "material:     {}\n",
-        serde_json::to_string(&c.material).unwrap_or_default()
+        "material:     {}\npatch:        {}\n",
+        serde_json::to_string(&c.material).unwrap_or_default(),
+        serde_json::to_string(&c.patch_material).unwrap_or_default()
     )
 }

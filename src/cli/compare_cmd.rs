@@ -52,21 +52,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
             .with_context(|| format!("--target {target}"))?;
         prediction = prediction.with_target(curve);
     }
-    let comparison = match ScanFormat::from_name(&args.measured) {
-        Some(format) => {
-            let bytes = std::fs::read(&args.measured)
-                .with_context(|| format!("cannot read {}", args.measured))?;
-            let points =
-                read_scan(&bytes, format, args.units).with_context(|| args.measured.clone())?;
-            let scan = centreline_from_scan(&points).with_context(|| args.measured.clone())?;
-            compare_scan(&prediction, &scan)?
-        }
-        None => {
-            let measured = read_curve(&read_text_argument(&args.measured)?, args.units)
-                .with_context(|| args.measured.clone())?;
-            compare(&prediction, &measured)?
-        }
-    };
+    let (comparison, _) = compare_measured(&prediction, &args.measured, args.units)?;
     if let Some(dir) = &args.out {
         write_files(dir, &comparison)?;
     }
@@ -76,7 +62,38 @@ pub fn run(args: CompareArgs) -> Result<()> {
     }
 }
 
-fn write_files(dir: &PathBuf, comparison: &Comparison) -> Result<()> {
+/// `measured` (a centreline file, `-`, or a scan told by its extension)
+/// compared with `prediction`; and the measured centreline itself (mm): as
+/// given, or for a scan as extracted, run base to tip and cut at the cap.
+pub fn compare_measured(
+    prediction: &Prediction,
+    measured: &str,
+    units: Units,
+) -> Result<(Comparison, Vec<[f64; 3]>)> {
+    match ScanFormat::from_name(measured) {
+        Some(format) => {
+            let bytes =
+                std::fs::read(measured).with_context(|| format!("cannot read {measured}"))?;
+            let points = read_scan(&bytes, format, units).with_context(|| measured.to_string())?;
+            let scan = centreline_from_scan(&points).with_context(|| measured.to_string())?;
+            let comparison = compare_scan(prediction, &scan)?;
+            let centreline = comparison
+                .scan
+                .as_ref()
+                .map_or_else(Vec::new, |s| s.centreline_mm.clone());
+            Ok((comparison, centreline))
+        }
+        None => {
+            let curve = read_curve(&read_text_argument(measured)?, units)
+                .with_context(|| measured.to_string())?;
+            let comparison = compare(prediction, &curve)?;
+            let centreline = curve.points().iter().map(|p| [p.x, p.y, p.z]).collect();
+            Ok((comparison, centreline))
+        }
+    }
+}
+
+pub fn write_files(dir: &std::path::Path, comparison: &Comparison) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let write = |name: &str, text: String| {
         let path = dir.join(name);
@@ -99,7 +116,7 @@ fn write_files(dir: &PathBuf, comparison: &Comparison) -> Result<()> {
 }
 
 /// The comparison as a person reads it.
-fn summary(c: &Comparison) -> String {
+pub fn summary(c: &Comparison) -> String {
     let m = &c.measured;
     let mut text = format!(
         "measured:     {} points{}, {:.1} mm as given; noise {:.2} mm, smoothed with σ {:.1} mm\n\

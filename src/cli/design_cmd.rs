@@ -3,16 +3,17 @@
 //! [--checkpoint FILE] [--json] [--tuning JSON]`.
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
 use anyhow::{Context, Result};
 use clap::Args;
+use patchwork_core::curve::Curve;
 use patchwork_core::design::Design;
 use patchwork_core::fabrication::design_files;
 use patchwork_core::inverse::{
     Caches, DesignCheckpoint, DesignProgress, DesignReport, Fidelity, Observer, Plan,
-    SettingsError, TuningOverrides, UserSettings, design_resumable,
+    SettingsError, Smoothing, TuningOverrides, UserSettings, design_resumable,
 };
 
 use super::design_summary::summary;
@@ -27,6 +28,23 @@ pub struct DesignArgs {
     /// Folder for design.json, design.csv, the DXF/SVG cut files and profiles.svg.
     #[arg(long)]
     out: PathBuf,
+    #[command(flatten)]
+    flags: DesignFlags,
+    /// Balloon, patch material and pressure as design JSON, inline, a file or `-` (default: the reference scene).
+    #[arg(long, value_name = "JSON")]
+    options: Option<String>,
+    /// Save the run after every generation here, and resume from it if it exists.
+    #[arg(long, value_name = "FILE")]
+    checkpoint: Option<PathBuf>,
+    /// Print design.json to stdout instead of the summary.
+    #[arg(long)]
+    json: bool,
+}
+
+/// The search's settings, shared by `design` and `redesign`.
+#[derive(Args)]
+#[command(allow_negative_numbers = true)]
+pub struct DesignFlags {
     /// Preset: draft (about a minute), standard or fine (most accurate, slowest).
     #[arg(long, default_value = "standard")]
     fidelity: Fidelity,
@@ -36,24 +54,16 @@ pub struct DesignArgs {
     /// Forward simulations the search may spend [default: 200].
     #[arg(long)]
     budget: Option<usize>,
-    /// Balloon, patch material and pressure as design JSON, inline, a file or `-` (default: the reference scene).
-    #[arg(long, value_name = "JSON")]
-    options: Option<String>,
     /// Fabrication limits as JSON, inline or a file, e.g. `{"w_min_mm": 0.5}` (fields: the API's `bounds`).
     #[arg(long, value_name = "JSON")]
     bounds: Option<String>,
-    /// Keep the balloon length of --options instead of fitting it to the curve.
+    /// Keep the balloon length given (`--options`; `redesign`: the built
+    /// design's) instead of fitting it to the curve.
     #[arg(long)]
     fix_length: bool,
     /// Threads evaluating a generation in parallel.
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
     threads: usize,
-    /// Save the run after every generation here, and resume from it if it exists.
-    #[arg(long, value_name = "FILE")]
-    checkpoint: Option<PathBuf>,
-    /// Print design.json to stdout instead of the summary.
-    #[arg(long)]
-    json: bool,
     /// Expert tuning over the preset as JSON (file, `-` or inline); fields in docs/tuning.md.
     #[arg(long, value_name = "JSON")]
     tuning: Option<String>,
@@ -83,6 +93,15 @@ impl DesignArgs {
             }
             None => Design::reference(vec![]),
         };
+        self.flags.plan(base, self.input.smoothing())
+    }
+}
+
+impl DesignFlags {
+    /// The plan for designing on `base` (balloon, patch, pressure) with
+    /// these settings and `--tuning`'s overrides, resolved as the API
+    /// resolves a job.
+    pub fn plan(&self, base: Design, smoothing: Smoothing) -> Result<Plan> {
         let bounds = match &self.bounds {
             Some(argument) => json_argument("bounds", argument)?,
             None => Default::default(),
@@ -95,7 +114,7 @@ impl DesignArgs {
             bounds,
             freedom: Default::default(),
             fix_length: self.fix_length,
-            smoothing: self.input.smoothing(),
+            smoothing,
             threads: self.threads,
         };
         let overrides: TuningOverrides = match &self.tuning {
@@ -155,11 +174,25 @@ pub fn run(args: DesignArgs) -> Result<()> {
     let target = args.input.load_as_given()?;
     // Checked before the output folder is created: a bad option changes nothing.
     let plan = args.plan()?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    let report = design_into(&target, &plan, &args.out, args.checkpoint.as_deref())?;
+    if args.json {
+        return emit_json(&report);
+    }
+    emit(&summary(&report, &args.out))
+}
+
+/// Designs for `target` by `plan` and writes design.json and the cut files
+/// into `out` (created), resuming from `checkpoint` when it exists.
+pub fn design_into(
+    target: &Curve,
+    plan: &Plan,
+    out: &Path,
+    checkpoint: Option<&Path>,
+) -> Result<DesignReport> {
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let terminal = std::io::stderr().is_terminal();
     let cancel = AtomicBool::new(false);
-    let resume = match &args.checkpoint {
+    let resume = match checkpoint {
         Some(path) if path.exists() => {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("cannot read {}", path.display()))?;
@@ -181,12 +214,12 @@ pub fn run(args: DesignArgs) -> Result<()> {
     let mut observer = CliObserver {
         terminal,
         total_budget: plan.total_budget(),
-        checkpoint: args.checkpoint.as_deref(),
+        checkpoint,
         save_error: None,
     };
     let outcome = design_resumable(
-        &target,
-        &plan,
+        target,
+        plan,
         resume,
         &Caches::default(),
         &cancel,
@@ -198,12 +231,9 @@ pub fn run(args: DesignArgs) -> Result<()> {
     if terminal {
         eprintln!();
     }
-    let report = DesignReport::new(&outcome, args.seed);
-    write_files(&args.out, &report)?;
-    if args.json {
-        return emit_json(&report);
-    }
-    emit(&summary(&report, &args.out))
+    let report = DesignReport::new(&outcome, plan.settings().seed);
+    write_files(out, &report)?;
+    Ok(report)
 }
 
 fn write_files(dir: &std::path::Path, report: &DesignReport) -> Result<()> {

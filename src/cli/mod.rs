@@ -2,6 +2,7 @@
 
 mod bench;
 mod calibrate_cmd;
+mod calibrate_table;
 mod compare_cmd;
 mod curve_cmd;
 pub(crate) mod design_cmd;
@@ -10,6 +11,7 @@ mod input;
 mod ksa_cmd;
 mod output;
 mod preset_cmd;
+mod redesign_cmd;
 mod simulate_cmd;
 
 use anyhow::Result;
@@ -55,12 +57,20 @@ enum Command {
         after_help = "Example:\n  patchwork compare grasp/design.json measured.csv --out grasp/compare"
     )]
     Compare(compare_cmd::CompareArgs),
-    /// The balloon's material fitted to its measured inflation (length and
-    /// diameter at pressures), by least squares on the FE model.
+    /// The materials fitted to measurements of the lab's own balloons (bare
+    /// inflation, pressure–volume, built designs' centrelines or scans), by
+    /// least squares on the FE model.
     #[command(
         after_help = "Example:\n  patchwork calibrate inflation.csv --out my-balloon.json && patchwork design grasp.csv --options my-balloon.json --out grasp/"
     )]
     Calibrate(calibrate_cmd::CalibrateArgs),
+    /// From a built balloon to a new design: compare its measured
+    /// centreline (or scan) with its design, calibrate the materials to it,
+    /// and design the target again on them.
+    #[command(
+        after_help = "Example:\n  patchwork redesign grasp/design.json measured.csv --out grasp-2/ --fidelity draft"
+    )]
+    Redesign(redesign_cmd::RedesignArgs),
     /// Run time against error: a fixed suite of curves × fidelity settings.
     #[command(after_help = "Example:\n  patchwork bench --quick --out bench-out")]
     Bench(bench::BenchArgs),
@@ -88,6 +98,7 @@ pub fn run() -> Result<()> {
         Command::Design(args) => design_cmd::run(args),
         Command::Compare(args) => compare_cmd::run(args),
         Command::Calibrate(args) => calibrate_cmd::run(args),
+        Command::Redesign(args) => redesign_cmd::run(args),
         Command::Serve(args) => crate::service::run(args),
         Command::CopyJobs(args) => crate::service::copy_jobs::run(args),
         Command::Bench(args) => bench::run(args),

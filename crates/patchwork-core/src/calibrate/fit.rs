@@ -1,10 +1,15 @@
 //! Levenberg–Marquardt on the logarithms of the parameters (so they stay
 //! positive and their steps are relative), the Jacobian by forward
-//! differences; then the parameters' covariance σ² (JᵀJ)⁻¹ with
+//! differences (its columns in parallel); then the parameters' covariance σ² (JᵀJ)⁻¹ with
 //! σ² = RSS / (m − n), their 95 % intervals from Student's t, and their
 //! correlations.
 
 use nalgebra::{DMatrix, DVector};
+
+use crate::parallel::map_in_threads;
+
+/// The residuals at a point; none where the model has no answer.
+pub type ResidualFn<'a> = dyn Fn(&[f64]) -> Option<Vec<f64>> + Sync + 'a;
 
 /// Relative step of the forward differences (in log space).
 const STEP: f64 = 1e-3;
@@ -14,6 +19,8 @@ const MAX_ITERATIONS: usize = 30;
 pub struct Fit {
     pub log_values: Vec<f64>,
     pub residuals: Vec<f64>,
+    /// The residuals at the start.
+    pub start_residuals: Vec<f64>,
     /// Standard deviations of the log-parameters; none without more data
     /// than parameters.
     pub log_sd: Option<Vec<f64>>,
@@ -24,9 +31,10 @@ pub struct Fit {
 
 /// Minimises |r(x)|² from `start`; `r` answers none where the model has no
 /// answer (a step there is refused).
-pub fn levenberg_marquardt(start: Vec<f64>, r: &dyn Fn(&[f64]) -> Option<Vec<f64>>) -> Option<Fit> {
+pub fn levenberg_marquardt(start: Vec<f64>, r: &ResidualFn) -> Option<Fit> {
     let mut x = start;
     let mut rx = r(&x)?;
+    let start_residuals = rx.clone();
     let mut evaluations = 1;
     let mut damping = 1e-3;
     let cost = |v: &[f64]| v.iter().map(|e| e * e).sum::<f64>();
@@ -65,25 +73,34 @@ pub fn levenberg_marquardt(start: Vec<f64>, r: &dyn Fn(&[f64]) -> Option<Vec<f64
             }
         }
     }
-    Some(statistics(x, rx, &jacobian, evaluations))
+    let mut fit = statistics(x, rx, &jacobian, evaluations);
+    fit.start_residuals = start_residuals;
+    Some(fit)
 }
 
 fn jacobian_at(
     x: &[f64],
     rx: &[f64],
-    r: &dyn Fn(&[f64]) -> Option<Vec<f64>>,
+    r: &ResidualFn,
     evaluations: &mut usize,
 ) -> Option<DMatrix<f64>> {
-    let mut j = DMatrix::zeros(rx.len(), x.len());
-    for k in 0..x.len() {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let columns: Vec<usize> = (0..x.len()).collect();
+    let found = map_in_threads(&columns, threads, &|&k| {
         // Forward, or backward where the model has no answer forward (the
         // balloon past its limit point).
+        let mut tries = 0;
         let column = [STEP, -STEP].into_iter().find_map(|h| {
             let mut xk = x.to_vec();
             xk[k] += h;
-            *evaluations += 1;
+            tries += 1;
             r(&xk).map(|rk| (h, rk))
         });
+        (column, tries)
+    });
+    let mut j = DMatrix::zeros(rx.len(), x.len());
+    for (k, (column, tries)) in found.into_iter().enumerate() {
+        *evaluations += tries;
         let (h, rk) = column?;
         for i in 0..rx.len() {
             j[(i, k)] = (rk[i] - rx[i]) / h;
@@ -113,6 +130,7 @@ fn statistics(x: Vec<f64>, rx: Vec<f64>, j: &DMatrix<f64>, evaluations: usize) -
     Fit {
         log_values: x,
         residuals: rx,
+        start_residuals: Vec::new(),
         log_sd,
         correlation,
         degrees_of_freedom: dof,

@@ -2,8 +2,9 @@
 //! into a `Material`: the moduli together (`modulus`: every modulus of the
 //! law scaled alike; its value is μ of neo-Hookean, Arruda–Boyce and Gent,
 //! C₁₀ + C₀₁ of Mooney–Rivlin, μ₀ of Ogden), the law's
-//! stiffening (`lambda_m` of Arruda–Boyce, `jm` of Gent) and the
-//! compressibility (`bulk_ratio`, K₀/μ₀).
+//! stiffening (`lambda_m` of Arruda–Boyce, `jm` of Gent), the
+//! compressibility (`bulk_ratio`, K₀/μ₀) — all of the balloon's material —
+//! and the patch material's moduli together (`patch_modulus`).
 
 use serde::{Deserialize, Serialize};
 
@@ -16,7 +17,23 @@ pub enum Parameter {
     LambdaM,
     Jm,
     BulkRatio,
+    PatchModulus,
 }
+
+/// The two materials a calibration fits: the balloon's and the patches'.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Materials {
+    pub balloon: Material,
+    pub patch: Material,
+}
+
+const ALL: [Parameter; 5] = [
+    Parameter::Modulus,
+    Parameter::LambdaM,
+    Parameter::Jm,
+    Parameter::BulkRatio,
+    Parameter::PatchModulus,
+];
 
 impl Parameter {
     pub fn name(self) -> &'static str {
@@ -25,24 +42,53 @@ impl Parameter {
             Parameter::LambdaM => "lambda_m",
             Parameter::Jm => "jm",
             Parameter::BulkRatio => "bulk_ratio",
+            Parameter::PatchModulus => "patch_modulus",
         }
     }
 
     /// A parameter named as on the command line.
     pub fn from_name(name: &str) -> Option<Parameter> {
-        [
-            Parameter::Modulus,
-            Parameter::LambdaM,
-            Parameter::Jm,
-            Parameter::BulkRatio,
-        ]
-        .into_iter()
-        .find(|p| p.name() == name)
+        ALL.into_iter().find(|p| p.name() == name)
     }
 
-    /// Its value in `material`; none where the material has no such
-    /// parameter (λm of a neo-Hookean law, K₀/μ₀ of an incompressible one).
-    pub fn get(self, material: &Material) -> Option<f64> {
+    /// Every parameter's name, for messages.
+    pub fn names() -> String {
+        ALL.map(Parameter::name).join(", ")
+    }
+
+    /// Whether the parameter belongs to the patch's material (which only a
+    /// built design's measurement can tell).
+    pub fn of_patch(self) -> bool {
+        self == Parameter::PatchModulus
+    }
+
+    /// Its value in `materials`; none where the material has no such
+    /// parameter.
+    pub fn value(self, materials: &Materials) -> Option<f64> {
+        match self {
+            Parameter::PatchModulus => Some(law_modulus(&materials.patch.law, &materials.patch)),
+            _ => self.get(&materials.balloon),
+        }
+    }
+
+    /// `materials` with this parameter set to `value`.
+    pub fn with(self, materials: &Materials, value: f64) -> Materials {
+        match self {
+            Parameter::PatchModulus => Materials {
+                patch: Parameter::Modulus.set(&materials.patch, value),
+                balloon: materials.balloon.clone(),
+            },
+            _ => Materials {
+                balloon: self.set(&materials.balloon, value),
+                patch: materials.patch.clone(),
+            },
+        }
+    }
+
+    /// Its value in the balloon's `material`; none where the material has
+    /// no such parameter (λm of a neo-Hookean law, K₀/μ₀ of an
+    /// incompressible one, the patch's modulus).
+    fn get(self, material: &Material) -> Option<f64> {
         match (self, &material.law, &material.compressibility) {
             (Parameter::Modulus, law, _) => Some(law_modulus(law, material)),
             (Parameter::LambdaM, Law::ArrudaBoyce { lambda_m, .. }, _) => Some(*lambda_m),
@@ -57,10 +103,10 @@ impl Parameter {
 
     /// `material` with this parameter set to `value` (the modulus by
     /// scaling every modulus of the law; K₀/μ₀ kept when it scales).
-    pub fn set(self, material: &Material, value: f64) -> Material {
+    fn set(self, material: &Material, value: f64) -> Material {
         let mut m = material.clone();
         match self {
-            Parameter::Modulus => {
+            Parameter::Modulus | Parameter::PatchModulus => {
                 let factor = value / law_modulus(&material.law, material);
                 m.law = scaled(&m.law, factor);
                 if let Compressibility::D(d) = m.compressibility {

@@ -309,7 +309,7 @@ fn defined_torsion(mut profiles: TargetProfiles, kappa_min: f64) -> TargetProfil
 
 /// `measured` base to tip: as given, or reversed when that fits
 /// `predicted` better.
-fn oriented(measured: &Curve, predicted: &Curve) -> Result<(Curve, bool), CurveError> {
+pub(crate) fn oriented(measured: &Curve, predicted: &Curve) -> Result<(Curve, bool), CurveError> {
     let mut points = measured.points().to_vec();
     points.reverse();
     let reversed = Curve::from_points(points)?;

@@ -15,6 +15,7 @@ mod prediction;
 mod regions;
 pub mod scan;
 
+pub(crate) use compare::oriented;
 pub use compare::{
     ComparedProfiles, Comparison, MeasuredSummary, PROFILE_SAMPLES, RadiusFigures, ShapeFigures,
     compare, compare_scan,

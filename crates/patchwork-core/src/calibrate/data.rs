@@ -1,0 +1,149 @@
+//! What a lab measures to calibrate with, and the checks every measured
+//! value passes before a solve: the bare balloon's inflation (length and
+//! diameter at pressures), its pressure–volume curve, and the centrelines
+//! of balloons built from designs.
+
+use serde::{Deserialize, Serialize};
+
+use super::CalibrationError;
+use crate::design::Design;
+
+/// The bare balloon measured at one pressure: its length from the clamp to
+/// the tip, its diameter across the middle (mid-wall), or both (mm).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Inflation {
+    pub pressure_kpa: f64,
+    #[serde(default)]
+    pub length_mm: Option<f64>,
+    #[serde(default)]
+    pub diameter_mm: Option<f64>,
+}
+
+/// One point of the bare balloon's pressure–volume curve: the volume
+/// inside the balloon (enclosed by the wall's mid-surface, clamp to tip:
+/// what was pumped in plus the uninflated balloon's own) at a pressure.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PressureVolume {
+    pub pressure_kpa: f64,
+    pub volume_ml: f64,
+}
+
+/// A balloon built from a design and measured inflated: the design (its
+/// balloon, patches and pressure; the materials are the calibration's) and
+/// the measured centreline from the clamp to the tip (mm; either direction,
+/// in any frame).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Built {
+    pub design: Design,
+    pub centreline_mm: Vec<[f64; 3]>,
+}
+
+/// Everything measured; any mix of the three kinds.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Measurements {
+    #[serde(default)]
+    pub inflation: Vec<Inflation>,
+    #[serde(default)]
+    pub pressure_volume: Vec<PressureVolume>,
+    #[serde(default)]
+    pub built: Vec<Built>,
+}
+
+/// A P–V point is fitted only where a larger volume never comes back to
+/// its pressure (more than this relative volume further on): the states a
+/// pressure-controlled inflation reaches. Below it, two points are taken
+/// as one volume measured with its noise.
+const SAME_VOLUME: f64 = 0.03;
+
+impl Measurements {
+    /// How many values a calibration fits to (a built design's centreline
+    /// as its samples' coordinates).
+    pub fn count(&self) -> usize {
+        self.inflation
+            .iter()
+            .map(|d| usize::from(d.length_mm.is_some()) + usize::from(d.diameter_mm.is_some()))
+            .sum::<usize>()
+            + self.pressure_volume.len()
+            + self.built.len() * 3 * super::built::SAMPLES
+    }
+
+    /// Every value checked; the first that is wrong is named.
+    pub fn check(&self) -> Result<(), CalibrationError> {
+        if self.count() == 0 {
+            return Err(CalibrationError::Empty);
+        }
+        for (index, d) in self.inflation.iter().enumerate() {
+            let bad = |reason: &str| datum("inflation", index, reason);
+            check_pressure(d.pressure_kpa).map_err(bad)?;
+            for value in [d.length_mm, d.diameter_mm].into_iter().flatten() {
+                if !(value.is_finite() && value > 0.0 && value < 1e5) {
+                    return Err(bad("lengths and diameters must be positive (mm)"));
+                }
+            }
+            if d.length_mm.is_none() && d.diameter_mm.is_none() {
+                return Err(bad("measures neither the length nor the diameter"));
+            }
+        }
+        for (index, d) in self.pressure_volume.iter().enumerate() {
+            let bad = |reason: &str| datum("pressure_volume", index, reason);
+            check_pressure(d.pressure_kpa).map_err(bad)?;
+            if !(d.volume_ml.is_finite() && d.volume_ml > 0.0 && d.volume_ml < 1e6) {
+                return Err(bad("volume_ml must be positive"));
+            }
+        }
+        if self.pressure_volume.len() == 1 {
+            return Err(datum(
+                "pressure_volume",
+                0,
+                "a pressure–volume curve needs two points or more",
+            ));
+        }
+        for (index, b) in self.built.iter().enumerate() {
+            let bad = |reason: String| datum("built", index, &reason);
+            b.design
+                .validate()
+                .map_err(|e| bad(format!("design: {e}")))?;
+            if b.centreline_mm.iter().flatten().any(|v| !v.is_finite()) {
+                return Err(bad(
+                    "centreline_mm: every coordinate must be a number".into()
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The P–V points a pressure-controlled model can be fitted to, by
+    /// index, and those left out: sorted by volume, a point is left out
+    /// where a point of larger volume (by more than `SAME_VOLUME`) lies at
+    /// its pressure or below — past the pressure's peak, where the balloon
+    /// bulges and the bulge runs along it, or on the first rise at a
+    /// pressure the bulged balloon holds again.
+    pub fn fitted_pressure_volume(&self) -> (Vec<usize>, Vec<usize>) {
+        let points = &self.pressure_volume;
+        (0..points.len()).partition(|&i| {
+            !points.iter().any(|q| {
+                q.volume_ml > points[i].volume_ml * (1.0 + SAME_VOLUME)
+                    && q.pressure_kpa <= points[i].pressure_kpa
+            })
+        })
+    }
+}
+
+fn check_pressure(pressure_kpa: f64) -> Result<(), &'static str> {
+    match pressure_kpa.is_finite() && pressure_kpa > 0.0 && pressure_kpa <= 1000.0 {
+        true => Ok(()),
+        false => Err("pressure_kpa must be above 0 and at most 1000"),
+    }
+}
+
+fn datum(kind: &'static str, index: usize, reason: &str) -> CalibrationError {
+    CalibrationError::Datum {
+        kind,
+        index,
+        reason: reason.into(),
+    }
+}
