@@ -16,7 +16,7 @@ use patchwork_core::material::Law;
 use patchwork_core::measure::Prediction;
 
 use super::calibrate_table::{Table, read_table};
-use super::compare_cmd::compare_measured;
+use super::compare_cmd::{compare_measured, scanned_radius};
 use super::input::{json_argument, parse_units, read_text_argument};
 use super::output::{emit, emit_json};
 
@@ -35,7 +35,8 @@ pub struct CalibrateArgs {
     volume: Option<String>,
     /// A balloon built from a design and measured: `DESIGN.json=MEASURED`,
     /// the design.json that `design` wrote and the measured centreline
-    /// file or 3D scan (as `compare` takes them). Repeat for more.
+    /// file or 3D scan (as `compare` takes them; a scan's radius is fitted
+    /// too). Repeat for more.
     #[arg(long, value_name = "DESIGN=MEASURED")]
     built: Vec<String>,
     /// Units of the measured centrelines and scans.
@@ -173,11 +174,12 @@ fn built(pair: &str, units: Units) -> Result<Built> {
         .ok_or_else(|| anyhow!("--built {pair}: give DESIGN.json=MEASURED"))?;
     let prediction = Prediction::from_design_json(&read_text_argument(design)?)
         .with_context(|| format!("--built {design}"))?;
-    let (_, centreline_mm) = compare_measured(&prediction, measured, units)
+    let (comparison, centreline_mm) = compare_measured(&prediction, measured, units)
         .with_context(|| format!("--built {measured}"))?;
     Ok(Built {
         design: prediction.design,
         centreline_mm,
+        radius_mm: scanned_radius(&comparison),
     })
 }
 
@@ -238,8 +240,14 @@ pub fn summary(c: &Calibration) -> String {
         );
     }
     for b in &c.built {
+        let radius = b.measured_radius_mm.map_or(String::new(), |r| {
+            format!(
+                ", radius {r:.2} mm measured, {:.2} mm model",
+                b.predicted_radius_mm
+            )
+        });
         text += &format!(
-            "  built {}: model against the measured centreline {:.2} % of its length (from {:.2} % before), length {:.1} mm measured, {:.1} mm model\n",
+            "  built {}: model against the measured centreline {:.2} % of its length (from {:.2} % before), length {:.1} mm measured, {:.1} mm model{radius}\n",
             b.index + 1,
             b.shape_error_percent,
             b.shape_error_start_percent,

@@ -9,7 +9,7 @@ use patchwork_core::curve::{Units, read_curve};
 use patchwork_core::measure::scan::centreline_from_scan;
 use patchwork_core::measure::scan::read::{ScanFormat, read_scan};
 use patchwork_core::measure::{
-    Comparison, Prediction, ShapeFigures, compare, compare_scan, comparison_svg,
+    Comparison, Prediction, ShapeFigures, compare, compare_scan, comparison_svg, median_along,
 };
 
 use super::input::{parse_units, read_text_argument};
@@ -91,6 +91,12 @@ pub fn compare_measured(
             Ok((comparison, centreline))
         }
     }
+}
+
+/// The tube's median radius a scan measured (mm); none for a centreline.
+pub fn scanned_radius(comparison: &Comparison) -> Option<f64> {
+    let scan = comparison.scan.as_ref()?;
+    Some(median_along(&scan.curve().ok()?, &scan.radius_mm))
 }
 
 pub fn write_files(dir: &std::path::Path, comparison: &Comparison) -> Result<()> {

@@ -14,7 +14,7 @@ use patchwork_core::inverse::Smoothing;
 use patchwork_core::measure::Prediction;
 
 use super::calibrate_cmd::{self, write_options};
-use super::compare_cmd::{self, compare_measured};
+use super::compare_cmd::{self, compare_measured, scanned_radius};
 use super::design_cmd::{DesignFlags, design_into};
 use super::design_summary::summary as design_summary;
 use super::input::{parse_units, read_text_argument};
@@ -82,6 +82,7 @@ pub fn run(args: RedesignArgs) -> Result<()> {
         built: vec![Built {
             design: design.clone(),
             centreline_mm,
+            radius_mm: scanned_radius(&comparison),
         }],
         ..Measurements::default()
     };

@@ -5,6 +5,10 @@
 //! length, are the residuals — so that their RMS × √3 is the shape error
 //! (as a fraction of the length) of the model against the built balloon.
 //!
+//! A measured radius (the tube's median along its length) adds one more:
+//! the model's median ring radius at equal steps of its length over it,
+//! less one.
+//!
 //! A noisy measurement is smoothed as a target is (σ from the noise found
 //! on it); the model's centreline is then smoothed with the same σ before
 //! the comparison, so that the bends both lose to it cancel instead of
@@ -18,7 +22,7 @@ use crate::fe::{Simulation, simulate_from};
 use crate::inverse::Smoothing;
 use crate::inverse::input::prepare;
 use crate::ksa::KsaParams;
-use crate::measure::oriented;
+use crate::measure::{median_along, oriented};
 
 /// Samples of a measured centreline compared: 32 at equal fractions (a
 /// patch's stretch is ≥ 1/40 of a balloon's length for designs of up to a
@@ -42,14 +46,27 @@ pub struct Prepared {
     pub start: Simulation,
     /// The σ the measurement was smoothed with (mm; 0: not smoothed).
     sigma_mm: f64,
+    /// The measured median radius (mm), when known.
+    pub radius_mm: Option<f64>,
 }
 
-/// The model's centreline for `design` (ring centres, clamp to tip),
-/// warm-started from `previous` (the same design with other materials).
-pub fn predict(design: &Design, previous: Option<&Simulation>) -> Option<Curve> {
-    simulate_from(design, &super::model::options(), previous)
-        .ok()
-        .map(|sim| sim.centreline)
+/// What the model predicts of a built design.
+pub struct Predicted {
+    /// Ring centres, clamp to tip.
+    pub centreline: Curve,
+    /// The rings' median radius along the length (mm).
+    pub radius_mm: f64,
+}
+
+/// The model's prediction for `design`, warm-started from `previous` (the
+/// same design with other materials).
+pub fn predict(design: &Design, previous: Option<&Simulation>) -> Option<Predicted> {
+    let sim = simulate_from(design, &super::model::options(), previous).ok()?;
+    let radius: Vec<f64> = sim.rings.iter().map(|r| r.radius).collect();
+    Some(Predicted {
+        radius_mm: median_along(&sim.centreline, &radius),
+        centreline: sim.centreline,
+    })
 }
 
 impl Prepared {
@@ -96,13 +113,25 @@ impl Prepared {
                 .map_err(|e| bad(format!("centreline_mm: {e}")))?,
             length_mm: oriented.length(),
             sigma_mm: report.smoothing_mm,
+            radius_mm: built.radius_mm,
             start,
         })
     }
 
-    /// The residuals of `predicted` against the measured samples:
-    /// (R pᵢ + t − mᵢ) / L for every coordinate of every sample.
-    pub fn residuals(&self, predicted: &Curve) -> Option<Vec<f64>> {
+    /// The residuals of `predicted` against the measurement: (R pᵢ + t −
+    /// mᵢ) / L for every coordinate of every sample, then the radius's.
+    pub fn residuals(&self, predicted: &Predicted) -> Option<Vec<f64>> {
+        let mut r = self.shape_residuals(&predicted.centreline)?;
+        r.extend(self.radius_mm.map(|m| predicted.radius_mm / m - 1.0));
+        Some(r)
+    }
+
+    /// How many residuals it has.
+    pub fn residual_count(&self) -> usize {
+        3 * SAMPLES + usize::from(self.radius_mm.is_some())
+    }
+
+    fn shape_residuals(&self, predicted: &Curve) -> Option<Vec<f64>> {
         let smoothed;
         let predicted = match self.sigma_mm > 0.0 {
             true => {
@@ -131,8 +160,10 @@ impl Prepared {
     }
 }
 
-/// The shape error (% of the measured length) its residuals amount to.
+/// The shape error (% of the measured length) its residuals amount to
+/// (the radius's, if any, left out).
 pub fn shape_error_percent(residuals: &[f64]) -> f64 {
+    let residuals = &residuals[..residuals.len().min(3 * SAMPLES)];
     let samples = residuals.len() / 3;
     100.0 * (residuals.iter().map(|r| r * r).sum::<f64>() / samples.max(1) as f64).sqrt()
 }

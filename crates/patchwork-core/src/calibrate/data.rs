@@ -31,14 +31,18 @@ pub struct PressureVolume {
 }
 
 /// A balloon built from a design and measured inflated: the design (its
-/// balloon, patches and pressure; the materials are the calibration's) and
+/// balloon, patches and pressure; the materials are the calibration's),
 /// the measured centreline from the clamp to the tip (mm; either direction,
-/// in any frame).
+/// in any frame), and where known the tube's median radius along its
+/// length (mm; a scan measures it): what tells the balloon's stiffness
+/// apart from the patch's.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Built {
     pub design: Design,
     pub centreline_mm: Vec<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius_mm: Option<f64>,
 }
 
 /// Everything measured; any mix of the three kinds.
@@ -68,7 +72,11 @@ impl Measurements {
             .map(|d| usize::from(d.length_mm.is_some()) + usize::from(d.diameter_mm.is_some()))
             .sum::<usize>()
             + self.pressure_volume.len()
-            + self.built.len() * 3 * super::built::SAMPLES
+            + self
+                .built
+                .iter()
+                .map(|b| 3 * super::built::SAMPLES + usize::from(b.radius_mm.is_some()))
+                .sum::<usize>()
     }
 
     /// Every value checked; the first that is wrong is named.

@@ -95,6 +95,11 @@ pub struct BuiltFit {
     /// The measured centreline's length, its noise smoothed away (mm).
     pub measured_length_mm: f64,
     pub predicted_length_mm: f64,
+    /// The tube's median radius, measured (when given) and by the
+    /// calibrated model (mm).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_radius_mm: Option<f64>,
+    pub predicted_radius_mm: f64,
     /// The model's centreline against the measured one (RMS after the best
     /// rigid alignment, % of the measured length), from the starting
     /// materials and from the calibrated ones.

@@ -6,15 +6,14 @@
 use super::built::{self, Prepared};
 use super::model::{self, Bare};
 use super::{CalibrationError, Materials, Measurements, Parameter};
-use crate::curve::Curve;
 use crate::design::{Balloon, Design};
 
 /// The model's predictions for one set of materials.
 pub struct Predictions {
     /// The bare balloon at each of `Problem::pressures`.
     pub bare: Vec<Bare>,
-    /// Each built design's centreline.
-    pub built: Vec<Curve>,
+    /// Each built design's centreline and radius.
+    pub built: Vec<built::Predicted>,
 }
 
 pub struct Problem<'a> {
@@ -150,8 +149,8 @@ impl<'a> Problem<'a> {
             let d = &self.data.pressure_volume[i];
             r.push(self.bare_at(predictions, d.pressure_kpa).volume_ml / d.volume_ml - 1.0);
         }
-        for (b, curve) in self.built.iter().zip(&predictions.built) {
-            r.extend(b.residuals(curve)?);
+        for (b, predicted) in self.built.iter().zip(&predictions.built) {
+            r.extend(b.residuals(predicted)?);
         }
         Some(r)
     }
@@ -162,11 +161,15 @@ impl<'a> Problem<'a> {
 
     /// Where built design `i`'s residuals lie in the residual vector.
     pub fn built_range(&self, i: usize) -> std::ops::Range<usize> {
-        let per = 3 * built::SAMPLES;
         let bare = self.data.inflation.iter().fold(0, |n, d| {
             n + usize::from(d.length_mm.is_some()) + usize::from(d.diameter_mm.is_some())
         }) + self.pressure_volume.0.len();
-        bare + i * per..bare + (i + 1) * per
+        let start = bare
+            + self.built[..i]
+                .iter()
+                .map(Prepared::residual_count)
+                .sum::<usize>();
+        start..start + self.built[i].residual_count()
     }
 }
 

@@ -84,12 +84,14 @@ fn built_fits(problem: &Problem, result: &Fit, predictions: &Predictions) -> Vec
         .iter()
         .zip(&predictions.built)
         .enumerate()
-        .map(|(index, (b, curve))| {
+        .map(|(index, (b, predicted))| {
             let range = problem.built_range(index);
             BuiltFit {
                 index,
                 measured_length_mm: b.length_mm(),
-                predicted_length_mm: curve.length(),
+                predicted_length_mm: predicted.centreline.length(),
+                measured_radius_mm: b.radius_mm,
+                predicted_radius_mm: predicted.radius_mm,
                 shape_error_start_percent: shape_error_percent(
                     result.start_residuals.get(range.clone()).unwrap_or(&[]),
                 ),

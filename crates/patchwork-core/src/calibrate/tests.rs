@@ -212,6 +212,14 @@ fn a_built_balloon_s_centreline_gives_the_balloon_and_patch_moduli_back() {
         built: vec![Built {
             design: three_patches(),
             centreline_mm,
+            // The radius as a scan would give it, 0.5 % off.
+            radius_mm: Some(
+                1.005
+                    * crate::measure::median_along(
+                        &sim.centreline,
+                        &sim.rings.iter().map(|r| r.radius).collect::<Vec<_>>(),
+                    ),
+            ),
         }],
         ..Measurements::default()
     };
@@ -231,6 +239,8 @@ fn a_built_balloon_s_centreline_gives_the_balloon_and_patch_moduli_back() {
         "{b:?}"
     );
     assert!(c.warnings.iter().any(|w| w.contains("independent")));
+    let radius = b.measured_radius_mm.unwrap() / b.predicted_radius_mm;
+    assert!((radius - 1.0).abs() < 0.01, "{b:?}");
 }
 
 #[test]

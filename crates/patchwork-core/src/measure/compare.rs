@@ -127,6 +127,28 @@ pub struct Comparison {
     pub radius: Option<RadiusFigures>,
 }
 
+/// The median of `radius` (one value per point of `curve`) over equal
+/// steps of the curve's arc length: the tube's radius as a scan reads it,
+/// whatever the spacing of the points.
+pub fn median_along(curve: &Curve, radius: &[f64]) -> f64 {
+    let along: Vec<f64> = curve
+        .arc_length()
+        .iter()
+        .map(|v| v / curve.length())
+        .collect();
+    median_at(&along, radius)
+}
+
+/// The median of `values` (given at `fractions` of the length) over
+/// `PROFILE_SAMPLES` equal fractions.
+fn median_at(fractions: &[f64], values: &[f64]) -> f64 {
+    let mut sampled: Vec<f64> = (0..PROFILE_SAMPLES)
+        .map(|i| interpolate(fractions, values, i as f64 / (PROFILE_SAMPLES - 1) as f64))
+        .collect();
+    sampled.sort_by(f64::total_cmp);
+    sampled[sampled.len() / 2]
+}
+
 /// Compares the centreline extracted from a scan with `prediction`: the
 /// end that fits the prediction's tip is the tip, its cap cut off
 /// ([`ScanCentreline::base_to_tip`]); and the scan's radius with the
@@ -140,18 +162,9 @@ pub fn compare_scan(
     let measured = scan.curve()?;
     let mut comparison = compare(prediction, &measured)?;
     if let Some((fractions, predicted)) = prediction.radius_profile() {
-        let s = measured.arc_length();
-        let along: Vec<f64> = s.iter().map(|v| v / measured.length()).collect();
-        let median = |values: &[f64], at: &[f64]| {
-            let mut sampled: Vec<f64> = (0..PROFILE_SAMPLES)
-                .map(|i| interpolate(at, values, i as f64 / (PROFILE_SAMPLES - 1) as f64))
-                .collect();
-            sampled.sort_by(f64::total_cmp);
-            sampled[sampled.len() / 2]
-        };
         let (m, p) = (
-            median(&scan.radius_mm, &along),
-            median(&predicted, &fractions),
+            median_along(&measured, &scan.radius_mm),
+            median_at(&fractions, &predicted),
         );
         comparison.radius = Some(RadiusFigures {
             measured_median_mm: m,

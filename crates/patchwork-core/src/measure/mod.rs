@@ -18,7 +18,7 @@ pub mod scan;
 pub(crate) use compare::oriented;
 pub use compare::{
     ComparedProfiles, Comparison, MeasuredSummary, PROFILE_SAMPLES, RadiusFigures, ShapeFigures,
-    compare, compare_scan,
+    compare, compare_scan, median_along,
 };
 pub use error::CompareError;
 pub use plot::comparison_svg;
