@@ -11,9 +11,10 @@
 //! the 40 nodes around of the default mesh); a measured volume is of the
 //! round balloon.
 //!
-//! Every solve is on [`MeshSpec::default_simulation`], the mesh designs are
-//! verified and simulated on: calibrated on a coarser one, the parameters
-//! would absorb its error (a 2 mm mesh is 7.6 % off in hoop stretch).
+//! Every solve is on [`MeshSpec::default_simulation`], the mesh `simulate`
+//! uses and a design's prediction is corrected to: calibrated on a coarser
+//! one, the parameters would absorb its error (a 2 mm mesh is 7.6 % off in
+//! hoop stretch).
 
 use std::f64::consts::PI;
 
