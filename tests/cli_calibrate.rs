@@ -62,7 +62,14 @@ fn calibrate_refuses_bad_data_in_one_line() {
     assert_one_line_error(&run(REFERENCE, &["--fit", "stiffness"]), "--fit");
     assert_one_line_error(
         &run("pressure_kpa,length_mm\n-5,988\n", &["--fit", "modulus"]),
-        "pressure_kpa",
+        "-: line 2: pressure_kpa",
+    );
+    assert_one_line_error(
+        &run(
+            "pressure_kpa,length_mm\n# a comment\n18,900\n20,700\n",
+            &["--fit", "modulus"],
+        ),
+        "-: line 4: length_mm 700 at 20 kPa is below 900 at 18 kPa",
     );
     assert_one_line_error(&patchwork(&["calibrate", "missing.csv"]), "missing.csv");
 }

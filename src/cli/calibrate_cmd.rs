@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use patchwork_core::calibrate::{
-    Built, Calibration, Inflation, Measurements, Parameter, PressureVolume, calibrate,
+    Built, Calibration, CalibrationError, Inflation, Measurements, Parameter, PressureVolume,
+    calibrate,
 };
 use patchwork_core::curve::Units;
 use patchwork_core::design::{Balloon, PatchSpec};
@@ -68,7 +69,7 @@ pub struct CalibrateArgs {
 }
 
 pub fn run(args: CalibrateArgs) -> Result<()> {
-    let data = measurements(&args)?;
+    let (data, lines) = measurements(&args)?;
     let first = data.built.first().map(|b| &b.design);
     let balloon: Balloon = match &args.balloon {
         Some(text) => json_argument("balloon", text)?,
@@ -85,7 +86,8 @@ pub fn run(args: CalibrateArgs) -> Result<()> {
         material.validate().map_err(|e| anyhow!("{flag}: {e}"))?;
     }
     let fit = parameters(args.fit.as_deref(), &balloon, &data)?;
-    let calibration = calibrate(&balloon, &patch.material, &data, &fit)?;
+    let calibration =
+        calibrate(&balloon, &patch.material, &data, &fit).map_err(|e| lines.name(&args, e))?;
     if let Some(path) = &args.out {
         write_options(path, &calibration, balloon, patch)?;
     }
@@ -110,8 +112,39 @@ pub fn write_options(
         .with_context(|| format!("cannot write {}", path.display()))
 }
 
-fn measurements(args: &CalibrateArgs) -> Result<Measurements> {
+/// The CSV line of each inflation and P–V point, to name a refused one.
+#[derive(Default)]
+struct Lines {
+    inflation: Vec<usize>,
+    pressure_volume: Vec<usize>,
+}
+
+impl Lines {
+    /// `error` with a refused measurement named by its file and line.
+    fn name(&self, args: &CalibrateArgs, error: CalibrationError) -> anyhow::Error {
+        let CalibrationError::Datum {
+            kind,
+            index,
+            reason,
+        } = &error
+        else {
+            return error.into();
+        };
+        let (file, lines) = match *kind {
+            "inflation" => (args.inflation.as_deref(), &self.inflation),
+            "pressure_volume" => (args.volume.as_deref(), &self.pressure_volume),
+            _ => return error.into(),
+        };
+        match (file, lines.get(*index)) {
+            (Some(file), Some(line)) => anyhow!("{file}: line {line}: {reason}"),
+            _ => error.into(),
+        }
+    }
+}
+
+fn measurements(args: &CalibrateArgs) -> Result<(Measurements, Lines)> {
     let mut data = Measurements::default();
+    let mut lines = Lines::default();
     if let Some(path) = &args.inflation {
         let table = read_table(
             &read_text_argument(path)?,
@@ -120,6 +153,7 @@ fn measurements(args: &CalibrateArgs) -> Result<Measurements> {
         )
         .with_context(|| path.clone())?;
         data.inflation = inflations(&table).with_context(|| path.clone())?;
+        lines.inflation = table.rows.iter().map(|(line, _)| *line).collect();
     }
     if let Some(path) = &args.volume {
         let table = read_table(
@@ -128,6 +162,7 @@ fn measurements(args: &CalibrateArgs) -> Result<Measurements> {
             &[],
         )
         .with_context(|| format!("--volume {path}"))?;
+        lines.pressure_volume = table.rows.iter().map(|(line, _)| *line).collect();
         data.pressure_volume = table
             .rows
             .iter()
@@ -143,7 +178,7 @@ fn measurements(args: &CalibrateArgs) -> Result<Measurements> {
     if data.inflation.is_empty() && data.pressure_volume.is_empty() && data.built.is_empty() {
         bail!("nothing measured: give an inflation CSV, --volume or --built");
     }
-    Ok(data)
+    Ok((data, lines))
 }
 
 fn inflations(table: &Table) -> Result<Vec<Inflation>> {

@@ -63,6 +63,13 @@ pub struct Measurements {
 /// as one volume measured with its noise.
 const SAME_VOLUME: f64 = 0.03;
 
+/// A length or diameter this much smaller at a higher pressure, or two
+/// measurements at one pressure this far apart, contradict each other
+/// beyond a lab's noise: a balloon on its stable states grows as the
+/// pressure rises.
+const SHRINKS: f64 = 0.02;
+const SAME_PRESSURE_SPREAD: f64 = 0.05;
+
 impl Measurements {
     /// How many values a calibration fits to (a built design's centreline
     /// as its samples' coordinates).
@@ -103,6 +110,7 @@ impl Measurements {
                 return Err(bad("volume_ml must be positive"));
             }
         }
+        contradiction(&self.inflation)?;
         if self.pressure_volume.len() == 1 {
             return Err(datum(
                 "pressure_volume",
@@ -139,6 +147,44 @@ impl Measurements {
             })
         })
     }
+}
+
+/// The first pair of inflations that contradict each other (`SHRINKS`,
+/// `SAME_PRESSURE_SPREAD`), named by the later one's index.
+fn contradiction(inflation: &[Inflation]) -> Result<(), CalibrationError> {
+    for (j, b) in inflation.iter().enumerate() {
+        for a in &inflation[..j] {
+            let pairs = [
+                ("length_mm", a.length_mm, b.length_mm),
+                ("diameter_mm", a.diameter_mm, b.diameter_mm),
+            ];
+            for (name, x, y) in pairs {
+                let (Some(x), Some(y)) = (x, y) else { continue };
+                let reason = if a.pressure_kpa == b.pressure_kpa {
+                    ((y / x - 1.0).abs() > SAME_PRESSURE_SPREAD).then(|| {
+                        format!(
+                            "{name} {y} at {} kPa, and {x} at the same pressure before: more than 5 % apart",
+                            b.pressure_kpa
+                        )
+                    })
+                } else {
+                    let ((lo_p, lo), (hi_p, hi)) = match a.pressure_kpa < b.pressure_kpa {
+                        true => ((a.pressure_kpa, x), (b.pressure_kpa, y)),
+                        false => ((b.pressure_kpa, y), (a.pressure_kpa, x)),
+                    };
+                    (hi < lo * (1.0 - SHRINKS)).then(|| {
+                        format!(
+                            "{name} {hi} at {hi_p} kPa is below {lo} at {lo_p} kPa: a balloon grows as the pressure rises"
+                        )
+                    })
+                };
+                if let Some(reason) = reason {
+                    return Err(datum("inflation", j, &reason));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 fn check_pressure(pressure_kpa: f64) -> Result<(), &'static str> {

@@ -36,18 +36,19 @@ pub fn report(problem: &Problem, result: &Fit) -> Calibration {
     let rms = (result.residuals.iter().map(|r| r * r).sum::<f64>()
         / result.residuals.len().max(1) as f64)
         .sqrt();
+    let residuals = predictions
+        .as_ref()
+        .map_or_else(Vec::new, |p| bare_residuals(problem, p));
     Calibration {
         material: materials.balloon,
         patch_material: materials.patch,
         parameters,
-        residuals: predictions
-            .as_ref()
-            .map_or_else(Vec::new, |p| bare_residuals(problem, p)),
+        warnings: warnings(problem, result, 100.0 * rms, &residuals),
+        residuals,
         built: predictions
             .as_ref()
             .map_or_else(Vec::new, |p| built_fits(problem, result, p)),
         rms_percent: 100.0 * rms,
-        warnings: warnings(problem, result),
         solves: result.evaluations * problem.solves_per_evaluation() + problem.built.len(),
     }
 }
@@ -103,9 +104,30 @@ fn built_fits(problem: &Problem, result: &Fit, predictions: &Predictions) -> Vec
         .collect()
 }
 
-fn warnings(problem: &Problem, result: &Fit) -> Vec<String> {
+/// A fit whose residuals' RMS is above this (%) does not describe the
+/// data: the law, the parameters fitted or a measurement is wrong.
+const POOR_FIT_PERCENT: f64 = 3.0;
+
+/// What the user must read: a poor fit (`rms` %, with the bare
+/// `residuals`), an exact one, P–V points left out, intervals from
+/// centrelines, parameters the data cannot tell apart.
+fn warnings(problem: &Problem, result: &Fit, rms: f64, residuals: &[Residual]) -> Vec<String> {
     let mut out = Vec::new();
     let fit = &problem.fit;
+    if rms > POOR_FIT_PERCENT {
+        let worst = residuals
+            .iter()
+            .max_by(|a, b| a.percent.abs().total_cmp(&b.percent.abs()))
+            .map_or(String::new(), |r| {
+                format!(
+                    "; the largest misfit is {} at {} kPa ({:+.1} %)",
+                    r.quantity, r.pressure_kpa, r.percent
+                )
+            });
+        out.push(format!(
+            "the model fits these data only to {rms:.1} % RMS{worst}: check the measurements, fit more parameters, or choose another law"
+        ));
+    }
     if result.degrees_of_freedom == 0 {
         out.push(
             "as many measured values as parameters: the fit is exact and has no intervals; measure more"

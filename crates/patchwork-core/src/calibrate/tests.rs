@@ -278,6 +278,33 @@ fn too_little_or_wrong_data_is_refused_and_an_exact_fit_says_so() {
             ..
         })
     ));
+    // Contradictions: a balloon shorter at a higher pressure; one pressure
+    // measured twice, 10 % apart.
+    let mut shrinking = measured(&[18.0, 20.0], 0.0);
+    shrinking[1].length_mm = shrinking[0].length_mm.map(|l| 0.9 * l);
+    let error = calibrate(&start, &p, &inflations(shrinking), &[Parameter::Modulus]).unwrap_err();
+    assert!(
+        matches!(&error, CalibrationError::Datum { index: 1, reason, .. } if reason.contains("grows as the pressure rises")),
+        "{error}"
+    );
+    let mut twice = measured(&[20.0, 20.0], 0.0);
+    twice[1].diameter_mm = twice[0].diameter_mm.map(|d| 1.1 * d);
+    let error = calibrate(&start, &p, &inflations(twice), &[Parameter::Modulus]).unwrap_err();
+    assert!(error.to_string().contains("same pressure"), "{error}");
+    // Data no law of this kind fits: the diameters of a balloon 30 % wider
+    // than its lengths say.
+    let mut wide = measured(&[18.0, 22.0], 0.0);
+    for d in &mut wide {
+        d.diameter_mm = d.diameter_mm.map(|v| 1.3 * v);
+    }
+    let poor = calibrate(&start, &p, &inflations(wide), &[Parameter::Modulus]).unwrap();
+    assert!(
+        poor.warnings
+            .iter()
+            .any(|w| w.contains("fits these data only")),
+        "{:?}",
+        poor.warnings
+    );
     let both = inflations(data.clone());
     let error = calibrate(&start, &p, &both, &[Parameter::Jm]).unwrap_err();
     assert_eq!(error, CalibrationError::NoSuchParameter("jm"));
