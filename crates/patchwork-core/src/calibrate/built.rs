@@ -15,7 +15,8 @@
 //! reading as a shorter, straighter balloon (on a 0.3 mm-noisy helix
 //! centreline, σ = 6 mm shortened the measurement by 0.4 %).
 
-use super::{Built, CalibrationError};
+use super::data::{Built, SAMPLES};
+use super::error::CalibrationError;
 use crate::curve::{AlignedSamples, Curve, Point};
 use crate::design::Design;
 use crate::fe::{Simulation, simulate_from};
@@ -23,12 +24,6 @@ use crate::inverse::Smoothing;
 use crate::inverse::input::prepare;
 use crate::ksa::KsaParams;
 use crate::measure::{median_along, oriented};
-
-/// Samples of a measured centreline compared: 32 at equal fractions (a
-/// patch's stretch is ≥ 1/40 of a balloon's length for designs of up to a
-/// dozen patches; more samples add residuals, not information, and weigh
-/// one built balloon above the bare balloon's handful of values).
-pub const SAMPLES: usize = 32;
 
 /// A measured length this many times the predicted (or its inverse) is
 /// refused: its units are wrong, or it is of another balloon.

@@ -5,7 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::CalibrationError;
+use super::error::CalibrationError;
 use crate::design::Design;
 
 /// The bare balloon measured at one pressure: its length from the clamp to
@@ -57,6 +57,12 @@ pub struct Measurements {
     pub built: Vec<Built>,
 }
 
+/// Samples of a measured centreline compared: 32 at equal fractions (a
+/// patch's stretch is ≥ 1/40 of a balloon's length for designs of up to a
+/// dozen patches; more samples add residuals, not information, and weigh
+/// one built balloon above the bare balloon's handful of values).
+pub const SAMPLES: usize = 32;
+
 /// A P–V point is fitted only where a larger volume never comes back to
 /// its pressure (more than this relative volume further on): the states a
 /// pressure-controlled inflation reaches. Below it, two points are taken
@@ -82,7 +88,7 @@ impl Measurements {
             + self
                 .built
                 .iter()
-                .map(|b| 3 * super::built::SAMPLES + usize::from(b.radius_mm.is_some()))
+                .map(|b| 3 * SAMPLES + usize::from(b.radius_mm.is_some()))
                 .sum::<usize>()
     }
 

@@ -4,8 +4,10 @@
 //! the bare balloon once per distinct pressure, each built design once.
 
 use super::built::{self, Prepared};
+use super::data::Measurements;
+use super::error::CalibrationError;
 use super::model::{self, Bare};
-use super::{CalibrationError, Materials, Measurements, Parameter};
+use super::parameters::{Materials, Parameter};
 use crate::design::{Balloon, Design};
 
 /// The model's predictions for one set of materials.

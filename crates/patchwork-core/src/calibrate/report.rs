@@ -2,10 +2,10 @@
 //! every bare-balloon residual, each built design's shape error before and
 //! after, and the warnings a user must read.
 
+use super::answer::{BuiltFit, Calibration, Fitted, Residual};
 use super::built::shape_error_percent;
 use super::fit::{self, Fit};
 use super::problem::{Predictions, Problem};
-use super::{BuiltFit, Calibration, Fitted, Residual};
 
 /// Correlations above this (in magnitude) are reported: the data then
 /// cannot tell the two parameters apart.
@@ -152,7 +152,7 @@ fn warnings(problem: &Problem, result: &Fit, rms: f64, residuals: &[Residual]) -
     if !problem.built.is_empty() && result.log_sd.is_some() {
         out.push(format!(
             "the intervals count a built centreline's {} samples as independent; neighbouring samples' misfits are not, so the intervals are narrower than the data support",
-            super::built::SAMPLES
+            super::data::SAMPLES
         ));
     }
     if let Some(c) = &result.correlation {
