@@ -6,9 +6,9 @@
 
 use super::*;
 use crate::cmaes::SeededRng;
-use crate::design::{Design, Patch};
+use crate::design::{Balloon, Design, Patch};
 use crate::fe::simulate;
-use crate::material::{Compressibility, Law};
+use crate::material::{Compressibility, Law, Material};
 
 fn truth() -> Balloon {
     Balloon {

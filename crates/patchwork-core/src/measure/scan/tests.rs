@@ -31,7 +31,7 @@ fn scanned_tube(axis: &Curve, r: f64, n: usize, holes: usize, seed: u64) -> (Vec
     let length = axis.length();
     let cap_area = 2.0 * std::f64::consts::PI * r * r;
     let tube_area = 2.0 * std::f64::consts::PI * r * length;
-    let mut surface = |rng: &mut SeededRng| {
+    let surface = |rng: &mut SeededRng| {
         let theta = std::f64::consts::TAU * rng.uniform();
         if rng.uniform() * (tube_area + cap_area) < tube_area {
             let s = length * rng.uniform();
