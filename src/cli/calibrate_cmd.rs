@@ -241,6 +241,11 @@ fn parameters(
             .flatten()
             .collect());
     };
+    parse_fit(names)
+}
+
+/// `--fit`'s comma-separated parameter names.
+pub fn parse_fit(names: &str) -> Result<Vec<Parameter>> {
     names
         .split(',')
         .map(|n| {

@@ -7,13 +7,13 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
-use patchwork_core::calibrate::{Built, Measurements, Parameter, calibrate};
+use patchwork_core::calibrate::{Built, Materials, Measurements, Parameter, calibrate};
 use patchwork_core::curve::Units;
 use patchwork_core::design::Design;
 use patchwork_core::inverse::Smoothing;
 use patchwork_core::measure::Prediction;
 
-use super::calibrate_cmd::{self, write_options};
+use super::calibrate_cmd::{self, parse_fit, write_options};
 use super::compare_cmd::{self, compare_measured, scanned_radius};
 use super::design_cmd::{DesignFlags, design_into};
 use super::design_summary::summary as design_summary;
@@ -55,23 +55,19 @@ pub fn run(args: RedesignArgs) -> Result<()> {
     })?;
     let fit = match &args.fit {
         None => vec![Parameter::Modulus, Parameter::PatchModulus],
-        Some(names) => names
-            .split(',')
-            .map(|n| {
-                Parameter::from_name(n.trim()).ok_or_else(|| {
-                    anyhow!("--fit: unknown parameter {n:?}: use {}", Parameter::names())
-                })
-            })
-            .collect::<Result<_>>()?,
+        Some(names) => parse_fit(names)?,
     };
     let design = prediction.design.clone();
     // Checked before anything is computed or written.
-    let base = |materials: (&_, &_)| Design {
+    let base = |materials: Materials| Design {
         patches: Vec::new(),
-        ..with_materials(&design, materials)
+        ..materials.on(&design)
     };
     args.flags.plan(
-        base((&design.balloon.material, &design.patch.material)),
+        base(Materials {
+            balloon: design.balloon.material.clone(),
+            patch: design.patch.material.clone(),
+        }),
         Smoothing::Auto,
     )?;
 
@@ -103,7 +99,10 @@ pub fn run(args: RedesignArgs) -> Result<()> {
     )?;
 
     let plan = args.flags.plan(
-        base((&calibration.material, &calibration.patch_material)),
+        base(Materials {
+            balloon: calibration.material.clone(),
+            patch: calibration.patch_material.clone(),
+        }),
         Smoothing::Auto,
     )?;
     let out = args.out.join("design");
@@ -114,17 +113,4 @@ pub fn run(args: RedesignArgs) -> Result<()> {
         calibrate_cmd::summary(&calibration),
         design_summary(&report, &out)
     ))
-}
-
-fn with_materials(
-    design: &Design,
-    (balloon, patch): (
-        &patchwork_core::material::Material,
-        &patchwork_core::material::Material,
-    ),
-) -> Design {
-    let mut design = design.clone();
-    design.balloon.material = balloon.clone();
-    design.patch.material = patch.clone();
-    design
 }

@@ -27,6 +27,16 @@ pub struct Materials {
     pub patch: Material,
 }
 
+impl Materials {
+    /// `design` made of these materials (its geometry and patches kept).
+    pub fn on(&self, design: &crate::design::Design) -> crate::design::Design {
+        let mut design = design.clone();
+        design.balloon.material = self.balloon.clone();
+        design.patch.material = self.patch.clone();
+        design
+    }
+}
+
 const ALL: [Parameter; 5] = [
     Parameter::Modulus,
     Parameter::LambdaM,

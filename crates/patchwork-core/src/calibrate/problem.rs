@@ -8,7 +8,7 @@ use super::data::Measurements;
 use super::error::CalibrationError;
 use super::model::{self, Bare};
 use super::parameters::{Materials, Parameter};
-use crate::design::{Balloon, Design};
+use crate::design::Balloon;
 
 /// The model's predictions for one set of materials.
 pub struct Predictions {
@@ -73,7 +73,7 @@ impl<'a> Problem<'a> {
             .built
             .iter()
             .enumerate()
-            .map(|(i, b)| Prepared::new(i, b, with_materials(&b.design, &start)))
+            .map(|(i, b)| Prepared::new(i, b, start.on(&b.design)))
             .collect::<Result<_, _>>()?;
         Ok(Problem {
             balloon: balloon.clone(),
@@ -122,7 +122,7 @@ impl<'a> Problem<'a> {
         let built = self
             .built
             .iter()
-            .map(|b| built::predict(&with_materials(&b.design, materials), Some(&b.start)))
+            .map(|b| built::predict(&materials.on(&b.design), Some(&b.start)))
             .collect::<Option<_>>()?;
         Some(Predictions { bare, built })
     }
@@ -173,12 +173,4 @@ impl<'a> Problem<'a> {
                 .sum::<usize>();
         start..start + self.built[i].residual_count()
     }
-}
-
-/// `design` with the calibration's materials.
-fn with_materials(design: &Design, materials: &Materials) -> Design {
-    let mut design = design.clone();
-    design.balloon.material = materials.balloon.clone();
-    design.patch.material = materials.patch.clone();
-    design
 }

@@ -177,24 +177,17 @@ fn three_patches() -> Design {
 #[test]
 fn a_built_balloon_s_centreline_gives_the_balloon_and_patch_moduli_back() {
     let mut built = three_patches();
-    built.balloon.material = Parameter::Modulus
-        .with(
-            &Materials {
+    let truth = [Parameter::Modulus, Parameter::PatchModulus]
+        .iter()
+        .zip([0.34, 1.8])
+        .fold(
+            Materials {
                 balloon: built.balloon.material.clone(),
                 patch: built.patch.material.clone(),
             },
-            0.34,
-        )
-        .balloon;
-    built.patch.material = Parameter::Modulus
-        .with(
-            &Materials {
-                balloon: built.patch.material.clone(),
-                patch: built.patch.material.clone(),
-            },
-            1.8,
-        )
-        .balloon;
+            |m, (p, v)| p.with(&m, v),
+        );
+    built = truth.on(&built);
     let sim = simulate(&built, &model::options()).unwrap();
     let noisy = sim.centreline.with_noise(0.001, 5).unwrap();
     // In the lab's frame: turned and moved, and read from the tip.
