@@ -6,7 +6,6 @@ use patchwork_core::inverse::Plan;
 
 use crate::cli::design_cmd::DesignArgs;
 use crate::service::request::JobRequest;
-use crate::service::spec::JobSpec;
 
 #[derive(Parser)]
 struct Command {
@@ -31,8 +30,8 @@ fn from_api(job: serde_json::Value) -> Plan {
     let mut job = job;
     job["curve"] = serde_json::json!({"preset": "arc"});
     let request: JobRequest = serde_json::from_value(job).expect("the request parses");
-    match request.spec() {
-        Ok(JobSpec::Design(design)) => design.plan().clone(),
+    match request.spec(None) {
+        Ok(design) => design.plan().clone(),
         Err(error) => panic!("the API resolves no plan: {error}"),
     }
 }

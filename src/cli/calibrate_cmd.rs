@@ -13,7 +13,6 @@ use patchwork_core::calibrate::{
 };
 use patchwork_core::curve::Units;
 use patchwork_core::design::{Balloon, PatchSpec};
-use patchwork_core::material::Law;
 use patchwork_core::measure::Prediction;
 
 use super::calibrate_table::{Table, read_table};
@@ -224,24 +223,10 @@ fn parameters(
     balloon: &Balloon,
     data: &Measurements,
 ) -> Result<Vec<Parameter>> {
-    let Some(names) = names else {
-        let stiffening = match balloon.material.law {
-            Law::ArrudaBoyce { .. } => Some(Parameter::LambdaM),
-            Law::Gent { .. } => Some(Parameter::Jm),
-            _ => None,
-        };
-        let bare = !(data.inflation.is_empty() && data.pressure_volume.is_empty());
-        let patch = !data.built.is_empty();
-        return Ok([Some(Parameter::Modulus)]
-            .into_iter()
-            .chain([
-                stiffening.filter(|_| bare),
-                patch.then_some(Parameter::PatchModulus),
-            ])
-            .flatten()
-            .collect());
-    };
-    parse_fit(names)
+    match names {
+        Some(names) => parse_fit(names),
+        None => Ok(Parameter::defaults(&balloon.material, data)),
+    }
 }
 
 /// `--fit`'s comma-separated parameter names.

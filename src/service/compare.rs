@@ -16,9 +16,10 @@ use serde::Deserialize;
 use serde_json::Value;
 
 use super::auth::Owner;
-use super::jobs::{not_ready, owned};
+use super::jobs::{kind_of, not_ready, owned};
 use super::problem::{ApiJson, Problem};
 use super::request::CurveSpec;
+use super::spec::JobKind;
 use super::state::AppState;
 
 /// `POST /v1/compare`: a design.json (as a job's result or `patchwork
@@ -64,13 +65,25 @@ pub async fn job_compare_route(
     Path(id): Path<String>,
     ApiJson(body): ApiJson<JobCompareRequest>,
 ) -> Result<Json<Comparison>, Problem> {
-    let row = owned(&state, &owner, &id).await?;
-    let Some(result) = state.store.result(&id).await? else {
-        return Err(not_ready(&row));
-    };
-    let prediction = Prediction::from_design_json(&result).map_err(Problem::internal)?;
+    let prediction = job_prediction(&state, &owner, &id).await?;
     let measured = body.measured.load(body.units, "measured")?;
     run(prediction, measured).await
+}
+
+/// The design job's prediction, once it has one; a calibration job has no
+/// design to compare with.
+async fn job_prediction(state: &AppState, owner: &Owner, id: &str) -> Result<Prediction, Problem> {
+    let row = owned(state, owner, id).await?;
+    if kind_of(&row) != JobKind::Design {
+        return Err(Problem::new(
+            StatusCode::CONFLICT,
+            "the job is a calibration: it has no design to compare with",
+        ));
+    }
+    let Some(result) = state.store.result(id).await? else {
+        return Err(not_ready(&row));
+    };
+    Prediction::from_design_json(&result).map_err(Problem::internal)
 }
 
 async fn run(
@@ -116,11 +129,7 @@ pub async fn job_scan_route(
         )
     })?;
     let (format, units) = scan_query(uri.query().unwrap_or(""))?;
-    let row = owned(&state, &owner, &id).await?;
-    let Some(result) = state.store.result(&id).await? else {
-        return Err(not_ready(&row));
-    };
-    let prediction = Prediction::from_design_json(&result).map_err(Problem::internal)?;
+    let prediction = job_prediction(&state, &owner, &id).await?;
     tokio::task::spawn_blocking(move || {
         let points = read_scan(&bytes, format, units)
             .map_err(|e| Problem::invalid("scan", e.to_string()))?;

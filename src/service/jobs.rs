@@ -1,4 +1,5 @@
-//! `/v1/jobs`: submit, list, read, cancel and delete design jobs, and fetch
+//! `/v1/jobs`: submit design jobs, list, read, cancel and delete jobs of
+//! every kind (a calibration is submitted by `calibrations.rs`), and fetch
 //! their iterations, result and files.
 
 use axum::Extension;
@@ -9,14 +10,15 @@ use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 
 use super::auth::Owner;
+use super::balloons;
 use super::job_state::{Ending, EventKind, JobStatus};
 use super::problem::{ApiJson, Problem};
 use super::request::JobRequest;
-use super::spec::JobSpec;
+use super::spec::{JobKind, JobSpec};
 use super::state::{AppState, StopReason};
 use super::store::JobRow;
 
-/// The files of a finished job.
+/// The files of a finished design job.
 pub const FILES: [&str; 6] = [
     "patches.dxf",
     "template.dxf",
@@ -26,10 +28,29 @@ pub const FILES: [&str; 6] = [
     "design.csv",
 ];
 
+/// The files of a finished calibration job.
+pub const CALIBRATION_FILES: [&str; 2] = ["calibration.json", "options.json"];
+
+/// The files a job of `kind` ends with.
+fn files_of(kind: JobKind) -> &'static [&'static str] {
+    match kind {
+        JobKind::Design => &FILES,
+        JobKind::Calibrate => &CALIBRATION_FILES,
+    }
+}
+
+/// A stored job's kind (a job stored before specs is a design).
+pub fn kind_of(row: &JobRow) -> JobKind {
+    (row.spec.as_deref())
+        .and_then(JobSpec::stored_kind)
+        .unwrap_or(JobKind::Design)
+}
+
 /// The job resource.
 #[derive(Debug, Serialize)]
 pub struct JobView {
     pub id: String,
+    pub kind: JobKind,
     pub status: JobStatus,
     pub created_at: String,
     pub updated_at: String,
@@ -42,12 +63,14 @@ pub struct JobView {
 impl JobView {
     pub fn new(row: &JobRow) -> JobView {
         let base = format!("/v1/jobs/{}", row.id);
-        let files: serde_json::Map<String, Value> = FILES
+        let kind = kind_of(row);
+        let files: serde_json::Map<String, Value> = files_of(kind)
             .iter()
             .map(|name| (name.to_string(), json!(format!("{base}/files/{name}"))))
             .collect();
         JobView {
             id: row.id.clone(),
+            kind,
             status: row.status,
             created_at: row.created_at.clone(),
             updated_at: row.updated_at.clone(),
@@ -84,6 +107,27 @@ pub async fn create(
     headers: HeaderMap,
     ApiJson(request): ApiJson<JobRequest>,
 ) -> Result<Response, Problem> {
+    let profile = match &request.balloon_profile {
+        Some(name) => Some(balloons::resolve(&state, &owner, name, "balloon_profile").await?),
+        None => None,
+    };
+    let spec = JobSpec::Design(Box::new(
+        request.spec(profile.map(|p| (p.balloon, p.patch)))?,
+    ));
+    let stored = serde_json::to_string(&request).map_err(Problem::internal)?;
+    submit(&state, &owner, &headers, &stored, &spec).await
+}
+
+/// Queues a job of any kind: `request` as the client sent it (an
+/// idempotent replay compares it), `spec` as the worker runs it. Answers
+/// 202 with the job, or the earlier job of the same `Idempotency-Key`.
+pub async fn submit(
+    state: &AppState,
+    owner: &Owner,
+    headers: &HeaderMap,
+    stored: &str,
+    spec: &JobSpec,
+) -> Result<Response, Problem> {
     if state
         .shutting_down
         .load(std::sync::atomic::Ordering::Relaxed)
@@ -95,18 +139,17 @@ pub async fn create(
         p.retry_after_s = Some(5);
         return Err(p);
     }
-    let key = idempotency_key(&headers)?;
-    let spec = request.spec()?.to_stored();
-    let stored = serde_json::to_string(&request).map_err(Problem::internal)?;
+    let key = idempotency_key(headers)?;
+    let spec = spec.to_stored();
     if let Some(key) = &key
         && let Some(existing) = state
             .store
             .job_by_idempotency_key(owner.stored(), key)
             .await?
     {
-        return replay(&existing, &stored);
+        return replay(&existing, stored);
     }
-    room_in_queue(&state).await?;
+    room_in_queue(state).await?;
     let id = uuid::Uuid::now_v7().to_string();
     let queued = json!({"stage": "queued"}).to_string();
     let inserted = state
@@ -114,7 +157,7 @@ pub async fn create(
         .insert_job(
             &id,
             owner.stored(),
-            &stored,
+            stored,
             &spec,
             key.as_deref(),
             (EventKind::Stage, &queued),
@@ -132,7 +175,7 @@ pub async fn create(
                 .job_by_idempotency_key(owner.stored(), key.as_deref().unwrap_or_default())
                 .await?
                 .ok_or_else(|| Problem::internal("insert conflict without an existing job"))?;
-            return replay(&existing, &stored);
+            return replay(&existing, stored);
         }
     };
     tracing::info!(job = %row.id, "job queued");
@@ -277,6 +320,10 @@ fn detail(row: &JobRow) -> Result<Value, Problem> {
             view["plan"] = json!(plan.describe());
             view["stage_budgets"] = json!(plan.describe_budgets());
         }
+        Some(Ok(JobSpec::Calibrate(calibrate))) => {
+            let names: Vec<&str> = calibrate.fit.iter().map(|p| p.name()).collect();
+            view["fit"] = json!(names);
+        }
         // A job stored before specs whose request no longer makes one, or a
         // spec of another version: the detail goes without its budget.
         Some(Err(_)) | None => {}
@@ -402,10 +449,12 @@ pub async fn file(
     Path((id, name)): Path<(String, String)>,
 ) -> Result<Response, Problem> {
     let row = owned(&state, &owner, &id).await?;
-    if !FILES.contains(&name.as_str()) {
-        return Err(Problem::not_found(
-            "no such file; the files are patches.dxf, template.dxf, template.svg, profiles.svg, design.json and design.csv",
-        ));
+    let files = files_of(kind_of(&row));
+    if !files.contains(&name.as_str()) {
+        return Err(Problem::not_found(format!(
+            "no such file; the job's files are {}",
+            files.join(", ")
+        )));
     }
     let Some((content_type, body)) = state.store.file(&id, &name).await? else {
         return Err(not_ready(&row));

@@ -3,7 +3,9 @@
 //! server-sent events. See ARCHITECTURE.md for the request and job lifecycles.
 
 mod auth;
+mod balloons;
 mod body_limit;
+mod calibrations;
 mod compare;
 mod config;
 pub mod copy_jobs;
@@ -12,6 +14,7 @@ mod job_state;
 mod jobs;
 mod ops;
 mod problem;
+mod profile;
 mod quick;
 mod relay;
 pub(crate) mod request;

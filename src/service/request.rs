@@ -1,11 +1,11 @@
 //! The job request (`POST /v1/jobs`) and the quick-look bodies: the HTTP
 //! body formats, checked at the boundary. A job request becomes a
-//! [`JobSpec`] (`spec.rs`) — whatever passes is a design run that can start —
+//! [`DesignSpec`] (`spec.rs`) — whatever passes is a design run that can start —
 //! and a refusal is a [`SettingsError`] naming the request's field, which
 //! the handler answers as problem+json.
 
 use patchwork_core::curve::{Curve, Preset, Units, points_from_json, read_text};
-use patchwork_core::design::Design;
+use patchwork_core::design::{Balloon, Design, PatchSpec};
 use patchwork_core::inverse::input::check_smoothing;
 use patchwork_core::inverse::{
     Fidelity, Freedom, SettingsError, Smoothing, TuningOverrides, UserSettings, VariableBounds,
@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use super::problem::field_of;
-use super::spec::{DesignSpec, JobSpec};
+use super::spec::DesignSpec;
 
 /// Most forward evaluations one job may ask for.
 pub const MAX_BUDGET: usize = 100_000;
@@ -77,14 +77,30 @@ pub struct JobRequest {
     /// Expert tuning laid over the fidelity's preset (docs/tuning.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tuning: Option<TuningOverrides>,
+    /// A balloon profile of this key (`/v1/balloons`): its balloon and
+    /// patch replace the design's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balloon_profile: Option<String>,
 }
 
 impl JobRequest {
     /// The job this request asks for, checked once: every check a run would
-    /// otherwise fail late on, naming the request's field.
-    pub fn spec(&self) -> Result<JobSpec, SettingsError> {
+    /// otherwise fail late on, naming the request's field. `profile` is the
+    /// balloon and patch of the `balloon_profile` named, read by the caller.
+    pub fn spec(&self, profile: Option<(Balloon, PatchSpec)>) -> Result<DesignSpec, SettingsError> {
         let target = self.curve.load(self.units, "curve")?;
-        let base = design_base(self.design.as_ref(), "design")?;
+        let mut base = design_base(self.design.as_ref(), "design")?;
+        if let Some((balloon, patch)) = profile {
+            let own = (self.design.as_ref().and_then(Value::as_object))
+                .is_some_and(|d| d.contains_key("balloon") || d.contains_key("patch"));
+            if own {
+                return Err(SettingsError::new(
+                    "balloon_profile",
+                    "give the balloon either by `design.balloon`/`design.patch` or by `balloon_profile`",
+                ));
+            }
+            (base.balloon, base.patch) = (balloon, patch);
+        }
         if let Some(budget) = self.options.budget
             && !(1..=MAX_BUDGET).contains(&budget)
         {
@@ -130,8 +146,7 @@ impl JobRequest {
         };
         check_smoothing(&target, settings.smoothing)
             .map_err(|e| SettingsError::new("options.smooth_mm", e.to_string()))?;
-        let design = DesignSpec::new(target, settings, tuning).map_err(request_field)?;
-        Ok(JobSpec::Design(design))
+        DesignSpec::new(target, settings, tuning).map_err(request_field)
     }
 }
 

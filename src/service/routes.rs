@@ -7,7 +7,7 @@ use axum::http::Method;
 use axum::routing::{MethodFilter, MethodRouter, on};
 
 use super::state::AppState;
-use super::{compare, events, jobs, ops, quick};
+use super::{balloons, calibrations, compare, events, jobs, ops, quick};
 
 /// Whether a route sits behind the API key check.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,6 +71,11 @@ pub fn table() -> Vec<Route> {
             compare::job_scan_route,
         ),
         route("POST", "/v1/compare", Keyed, compare::compare_route),
+        route("POST", "/v1/calibrations", Keyed, calibrations::create),
+        route("GET", "/v1/balloons", Keyed, balloons::list),
+        route("GET", "/v1/balloons/{name}", Keyed, balloons::get),
+        route("PUT", "/v1/balloons/{name}", Keyed, balloons::put),
+        route("DELETE", "/v1/balloons/{name}", Keyed, balloons::delete),
         route("POST", "/v1/curve", Keyed, quick::curve_route),
         route("POST", "/v1/ksa", Keyed, quick::ksa_route),
         route("POST", "/v1/simulate", Keyed, quick::simulate_route),

@@ -1,5 +1,8 @@
 //! A job as the service keeps and runs it. A design job ([`DesignSpec`]) is
-//! the target curve in millimetres and the run's resolved plan; job kinds
+//! the target curve in millimetres and the run's resolved plan; a
+//! calibration ([`CalibrateSpec`]) is the measurements, the starting
+//! materials and the parameters to fit, and the profile to save the answer
+//! as. Job kinds
 //! are the variants of [`JobSpec`], so a new kind is a variant the compiler
 //! then asks the worker and the job's detail to handle. A spec is made once, when
 //! the job is submitted (`request.rs` turns the HTTP body into one, naming
@@ -12,8 +15,9 @@
 //! presets of the server that runs it — as a job resumed after an upgrade
 //! always has.
 
+use patchwork_core::calibrate::{Measurements, Parameter};
 use patchwork_core::curve::{Curve, Point};
-use patchwork_core::design::Design;
+use patchwork_core::design::{Balloon, Design, PatchSpec};
 use patchwork_core::inverse::{
     Fidelity, Freedom, Plan, SettingsError, Smoothing, TuningOverrides, UserSettings,
     VariableBounds,
@@ -26,7 +30,31 @@ pub const SPEC_VERSION: u32 = 1;
 /// A validated job of any kind: what the worker runs.
 #[derive(Debug, Clone, PartialEq)]
 pub enum JobSpec {
-    Design(DesignSpec),
+    Design(Box<DesignSpec>),
+    Calibrate(Box<CalibrateSpec>),
+}
+
+/// The kinds of job, as the API names them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JobKind {
+    Design,
+    Calibrate,
+}
+
+/// A validated calibration: stored as it is (every field a plain value).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrateSpec {
+    /// The uninflated bare balloon and the material to start from.
+    pub balloon: Balloon,
+    /// The patch and the patch material to start from.
+    pub patch: PatchSpec,
+    pub measurements: Measurements,
+    pub fit: Vec<Parameter>,
+    /// The balloon profile of the job's owner to store the answer as.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub save_as: Option<String>,
 }
 
 /// A validated design job.
@@ -49,10 +77,21 @@ pub enum SpecError {
 }
 
 impl JobSpec {
+    /// The kind of a stored spec, read without the rest of it; none where
+    /// it is not a readable spec.
+    pub fn stored_kind(text: &str) -> Option<JobKind> {
+        #[derive(Deserialize)]
+        struct Kind {
+            kind: JobKind,
+        }
+        serde_json::from_str::<Kind>(text).ok().map(|k| k.kind)
+    }
+
     /// The stored form (JSON): `{"version": 1, "kind": "design", …}`.
     pub fn to_stored(&self) -> String {
         let job = match self {
             JobSpec::Design(design) => StoredJob::Design(design.stored()),
+            JobSpec::Calibrate(calibrate) => StoredJob::Calibrate(calibrate.as_ref().clone()),
         };
         let stored = Stored {
             version: SPEC_VERSION,
@@ -71,7 +110,10 @@ impl JobSpec {
         }
         let stored: Stored = serde_json::from_str(text)?;
         match stored.job {
-            StoredJob::Design(design) => DesignSpec::from_stored(design).map(JobSpec::Design),
+            StoredJob::Design(design) => {
+                DesignSpec::from_stored(design).map(|d| JobSpec::Design(Box::new(d)))
+            }
+            StoredJob::Calibrate(calibrate) => Ok(JobSpec::Calibrate(Box::new(calibrate))),
         }
     }
 }
@@ -164,6 +206,7 @@ struct Stored {
 #[serde(tag = "kind", rename_all = "snake_case")]
 enum StoredJob {
     Design(StoredDesign),
+    Calibrate(CalibrateSpec),
 }
 
 /// A design job as stored.
@@ -195,7 +238,9 @@ mod tests {
             .unwrap()
             .curve(Some(97))
             .unwrap();
-        JobSpec::Design(DesignSpec::new(target, settings, overrides).unwrap())
+        JobSpec::Design(Box::new(
+            DesignSpec::new(target, settings, overrides).unwrap(),
+        ))
     }
 
     #[test]
@@ -236,7 +281,9 @@ mod tests {
         let error = JobSpec::from_stored(&value.to_string()).unwrap_err();
         assert!(matches!(error, SpecError::Invalid(_)), "{error}");
         value["design"]["pressure_kpa"] = (-3.0).into();
-        let JobSpec::Design(design) = &job;
+        let JobSpec::Design(design) = &job else {
+            unreachable!("a design job")
+        };
         value["target_mm"] = serde_json::to_value(
             design
                 .target()
@@ -254,7 +301,7 @@ mod tests {
         ));
         value["design"]["pressure_kpa"] = 20.0.into();
         assert!(JobSpec::from_stored(&value.to_string()).is_ok());
-        value["kind"] = "calibrate".into();
+        value["kind"] = "survey".into();
         assert!(matches!(
             JobSpec::from_stored(&value.to_string()).unwrap_err(),
             SpecError::Unreadable(_)
@@ -263,5 +310,33 @@ mod tests {
         value["seeds"] = 3.into();
         let error = JobSpec::from_stored(&value.to_string()).unwrap_err();
         assert!(error.to_string().contains("seeds"), "{error}");
+    }
+
+    #[test]
+    fn a_stored_calibration_reads_back_and_names_its_kind() {
+        use patchwork_core::calibrate::Inflation;
+        let job = JobSpec::Calibrate(Box::new(CalibrateSpec {
+            balloon: Balloon::default(),
+            patch: PatchSpec::default(),
+            measurements: Measurements {
+                inflation: vec![Inflation {
+                    pressure_kpa: 20.0,
+                    length_mm: Some(412.5),
+                    diameter_mm: None,
+                }],
+                ..Measurements::default()
+            },
+            fit: vec![Parameter::Modulus],
+            save_as: Some("batch-7".into()),
+        }));
+        let stored = job.to_stored();
+        assert_eq!(JobSpec::from_stored(&stored).unwrap(), job);
+        assert_eq!(JobSpec::stored_kind(&stored), Some(JobKind::Calibrate));
+        let design = spec(UserSettings::default(), TuningOverrides::default());
+        assert_eq!(
+            JobSpec::stored_kind(&design.to_stored()),
+            Some(JobKind::Design)
+        );
+        assert_eq!(JobSpec::stored_kind("{\"version\": 1}"), None);
     }
 }

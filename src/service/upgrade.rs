@@ -9,6 +9,7 @@ use serde_json::json;
 
 use super::job_state::Ending;
 use super::request::JobRequest;
+use super::spec::JobSpec;
 use super::store::JobStore;
 
 /// What [`derive_specs`] did.
@@ -26,10 +27,13 @@ pub async fn derive_specs(store: &dyn JobStore) -> Result<Derived, sqlx::Error> 
     for row in store.jobs_without_spec().await? {
         let spec = serde_json::from_str::<JobRequest>(&row.request)
             .map_err(|e| format!("the stored request is not readable: {e}"))
-            .and_then(|request| request.spec().map_err(|e| e.to_string()));
+            .and_then(|request| request.spec(None).map_err(|e| e.to_string()));
         match spec {
             Ok(spec) => {
-                if store.set_spec(&row.id, &spec.to_stored()).await? {
+                if store
+                    .set_spec(&row.id, &JobSpec::Design(Box::new(spec)).to_stored())
+                    .await?
+                {
                     derived.specs += 1;
                 }
             }
@@ -55,7 +59,6 @@ pub async fn derive_specs(store: &dyn JobStore) -> Result<Derived, sqlx::Error> 
 mod tests {
     use super::*;
     use crate::service::job_state::JobStatus;
-    use crate::service::spec::JobSpec;
     use crate::service::store::{Database, ExportRow, JobExport, Store, now};
 
     /// A job as a store before job specs held it.
@@ -112,11 +115,13 @@ mod tests {
         let row = store.job(&valid, None).await.unwrap().unwrap();
         let expected = serde_json::from_str::<JobRequest>(request)
             .unwrap()
-            .spec()
+            .spec(None)
             .unwrap();
         let spec = JobSpec::from_stored(row.spec.as_deref().unwrap()).unwrap();
-        assert_eq!(spec, expected);
-        let JobSpec::Design(design) = spec;
+        let JobSpec::Design(design) = spec else {
+            panic!("a design job")
+        };
+        assert_eq!(*design, expected);
         assert_eq!(design.plan().settings().seed, 4);
         assert_eq!(row.status, JobStatus::Queued);
 

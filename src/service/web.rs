@@ -37,6 +37,7 @@ const ASSETS: &[(&str, &[u8])] = assets![
     "js/watch.js",
     "js/result.js",
     "js/compare.js",
+    "js/calibration.js",
     "js/jobs.js",
     "js/plot.js",
     "js/unrolled.js",

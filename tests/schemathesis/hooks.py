@@ -123,8 +123,11 @@ def bounds_ok(bounds):
 
 def job_ok(body):
     mesh = _dict(body.get("tuning")).get("uniform_mesh_mm", PRESET_ELEMENT_MM)
+    # A `balloon_profile` must name a profile this key stored: which names
+    # exist, no schema can say (a 422 naming the field otherwise).
     return (
-        curve_ok(body.get("curve"))
+        "balloon_profile" not in body
+        and curve_ok(body.get("curve"))
         and smoothing_ok(body, _dict(body.get("options")).get("smooth_mm"))
         and bounds_ok(body.get("bounds"))
         and balloon_ok(body.get("design"), mesh)
@@ -146,6 +149,8 @@ RULES = {
     and smoothing_ok(body, body.get("smooth_mm")),
     ("POST", "/v1/ksa"): lambda body: curve_ok(body.get("curve")),
     ("POST", "/v1/simulate"): simulate_ok,
+    # A profile is a design's balloon and patch: the same membrane rules.
+    ("PUT", "/v1/balloons/{name}"): lambda body: balloon_ok(body, 0.0),
 }
 
 

@@ -12,7 +12,7 @@ use serde_json::json;
 use crate::support::*;
 use crate::webdriver::{Driver, Session, downloaded};
 
-fn screenshots() -> PathBuf {
+pub fn screenshots() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("target/browser")
 }
 
@@ -238,6 +238,8 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
     .await;
     page.screenshot(&screenshots().join("result-tablet.png"))
         .await;
+    // From the scan compared, a calibration and a profile to design with.
+    crate::browser_calibrate::calibrate_to_the_compared_balloon(&page).await;
     page.quit().await;
 }
 

@@ -10,6 +10,8 @@ mod webdriver;
 mod access;
 mod bad_input;
 mod browser;
+mod browser_calibrate;
+mod calibrate;
 mod copy_jobs;
 mod lifecycle;
 mod measure;

@@ -123,11 +123,12 @@ fn the_web_app_ends_a_stream_on_the_final_events_and_handles_every_kind() {
 }
 
 /// Every stage a plan may announce is in the API document's `Stage` enum,
-/// in order, and has its label in the web app.
+/// in order, followed by a calibration's one stage, and each has its label
+/// in the web app.
 #[test]
 fn the_api_document_and_the_web_app_know_every_stage() {
     use patchwork_core::inverse::StageName;
-    let names: Vec<String> = StageName::ALL
+    let mut names: Vec<String> = StageName::ALL
         .iter()
         .map(|s| {
             serde_json::to_value(s)
@@ -138,6 +139,7 @@ fn the_api_document_and_the_web_app_know_every_stage() {
         })
         .collect();
     assert_eq!(names.last().map(String::as_str), Some("final_refine"));
+    names.push("calibrate".into());
     let openapi = include_str!("../../../openapi.yaml");
     let schema = &openapi[openapi.find("    Stage:").expect("Stage schema")..];
     assert_eq!(listed_after(schema, "enum: [", ']'), names);

@@ -8,6 +8,7 @@ use std::time::Duration;
 use patchwork_core::fabrication::OutputFile;
 
 use super::export::JobExport;
+use super::profile_conformance::profiles_are_kept_per_owner_and_replaced_in_place;
 use super::{Database, Iteration, Lease, Renewal, Store};
 use crate::service::job_state::{Ending, EventKind, JobStatus};
 
@@ -64,6 +65,7 @@ async fn submit(store: &Store, n: u32, owner: &str) -> String {
         (JobStatus::Queued, 1, EventKind::Stage)
     );
     assert_eq!((row.request, row.spec), (request, Some(spec)));
+    assert_eq!(row.owner, owner);
     id
 }
 
@@ -421,6 +423,7 @@ async fn keeps_the_contract(backend: Backend) {
     an_exported_job_is_imported_once_and_numbers_on(from, into).await;
     let (from, into) = (backend.fresh().await, backend.fresh().await);
     a_job_without_a_spec_gets_one_once(from, into).await;
+    profiles_are_kept_per_owner_and_replaced_in_place(backend.fresh().await).await;
     assert!(backend.fresh().await.ping().await);
 }
 

@@ -13,12 +13,13 @@ use async_trait::async_trait;
 use patchwork_core::fabrication::OutputFile;
 
 use super::export::JobExport;
-use super::{Claim, Iteration, JobRow, Lease, Renewal, StoredEvent};
+use super::{Claim, Iteration, JobRow, Lease, ProfileRow, Renewal, StoredEvent};
 use crate::service::job_state::{Ending, EventKind, JobStatus};
 
-/// Every job's events, iterations, checkpoints, results and files.
+/// Every job's events, iterations, checkpoints, results and files, and
+/// the owners' balloon profiles.
 #[async_trait]
-pub trait JobStore: JobTransfer + Send + Sync {
+pub trait JobStore: JobTransfer + ProfileStore + Send + Sync {
     /// Whether the database answers.
     async fn ping(&self) -> bool;
 
@@ -160,6 +161,28 @@ pub trait JobStore: JobTransfer + Send + Sync {
     fn postgres(&self) -> Option<&sqlx::PgPool> {
         None
     }
+}
+
+/// Balloon profiles, by owner and name (`profiles.rs`).
+#[async_trait]
+pub trait ProfileStore: Send + Sync {
+    /// Stores `profile` (JSON) as the owner's `name`, replacing one there;
+    /// `true` when it is new.
+    async fn put_profile(
+        &self,
+        owner: &str,
+        name: &str,
+        profile: &str,
+        source_job: Option<&str>,
+    ) -> Result<bool, sqlx::Error>;
+
+    async fn profile(&self, owner: &str, name: &str) -> Result<Option<ProfileRow>, sqlx::Error>;
+
+    /// The owner's profiles, by name.
+    async fn profiles(&self, owner: &str) -> Result<Vec<ProfileRow>, sqlx::Error>;
+
+    /// `false` when the owner has no such profile.
+    async fn delete_profile(&self, owner: &str, name: &str) -> Result<bool, sqlx::Error>;
 }
 
 /// Whole jobs out of one store and into another (`patchwork copy-jobs`).

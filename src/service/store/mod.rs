@@ -12,6 +12,9 @@ mod conformance;
 mod contract;
 mod export;
 mod postgres;
+#[cfg(test)]
+mod profile_conformance;
+mod profiles;
 mod sqlite;
 mod statements;
 mod transfer;
@@ -85,6 +88,8 @@ pub type Store = Arc<dyn JobStore>;
 #[derive(Debug, Clone, FromRow)]
 pub struct JobRow {
     pub id: String,
+    /// The API key's digest that submitted it ('' when keys are off).
+    pub owner: String,
     #[sqlx(try_from = "String")]
     pub status: JobStatus,
     /// The request as the client sent it.
@@ -96,6 +101,17 @@ pub struct JobRow {
     pub updated_at: String,
     pub progress: Option<String>,
     pub error: Option<String>,
+}
+
+/// A balloon profile as stored.
+#[derive(Debug, Clone, FromRow)]
+pub struct ProfileRow {
+    pub name: String,
+    /// `{"balloon": …, "patch": …}`, as JSON.
+    pub profile: String,
+    pub source_job: Option<String>,
+    pub created_at: String,
+    pub updated_at: String,
 }
 
 /// One server-sent event of a job.
@@ -117,7 +133,8 @@ pub struct Iteration {
     pub elapsed_s: f64,
 }
 
-const JOB_COLUMNS: &str = "id, status, request, spec, created_at, updated_at, progress, error";
+const JOB_COLUMNS: &str =
+    "id, owner, status, request, spec, created_at, updated_at, progress, error";
 
 /// Now, as fixed-width RFC 3339 UTC (sorts as text).
 pub fn now() -> String {

@@ -10,6 +10,7 @@ use sqlx::postgres::{PgConnectOptions, PgConnection, PgPool, PgPoolOptions};
 use sqlx::{ConnectOptions, Connection};
 
 use super::contract::Dialect;
+use super::profiles::profile_store;
 use super::statements::job_store;
 use super::transfer::job_transfer;
 use super::{StoredEvent, now};
@@ -52,6 +53,7 @@ job_store!(PgStore {
 });
 
 job_transfer!(PgStore);
+profile_store!(PgStore);
 
 impl Dialect for PgStore {
     type Connection = PgConnection;

@@ -8,6 +8,7 @@ use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, S
 use sqlx::{SqliteConnection, SqlitePool};
 
 use super::contract::Dialect;
+use super::profiles::profile_store;
 use super::statements::job_store;
 use super::transfer::job_transfer;
 use super::{StoredEvent, now};
@@ -50,6 +51,7 @@ job_store!(SqliteStore {
 });
 
 job_transfer!(SqliteStore);
+profile_store!(SqliteStore);
 
 impl Dialect for SqliteStore {
     type Connection = SqliteConnection;

@@ -1,4 +1,5 @@
-//! How a run ends in the store: the result stored and the job succeeded,
+//! How a run ends in the store: the result stored and the job succeeded
+//! (a design's here, a calibration's in `calibration.rs`),
 //! the job failed, or (shutdown) queued again. These writes are what a user
 //! waits for, so while the database does not answer (a restart, a network
 //! failure) they are tried again until it does; the attempt fences them, so
@@ -16,24 +17,44 @@ use crate::service::job_state::Ending;
 use crate::service::state::{AppState, StopReason};
 use crate::service::store::{self, Lease};
 
-/// What the blocking run returned (or how its thread failed).
+/// What the blocking design run returned (or how its thread failed).
 pub(super) type Outcome = Result<Result<DesignOutcome, DesignRunError>, tokio::task::JoinError>;
 
-/// Stores how the run ended; `stopped` is why it was stopped, if it was.
-pub(super) async fn conclude(
+/// How a run came out, whatever its kind: `T` is a finished run's answer.
+pub(super) enum Ran<T> {
+    Done(T),
+    /// Stopped through its control: why is the control's reason.
+    Stopped,
+    Failed(String),
+}
+
+/// A design run's outcome as a [`Ran`].
+pub(super) fn design_ran(outcome: Outcome, seed: u64) -> Ran<DesignReport> {
+    match outcome {
+        Ok(Ok(outcome)) => Ran::Done(DesignReport::new(&outcome, seed)),
+        Ok(Err(DesignRunError::Cancelled)) => Ran::Stopped,
+        Ok(Err(e)) => Ran::Failed(e.to_string()),
+        Err(e) => Ran::Failed(format!("internal error: {e}")),
+    }
+}
+
+/// Stores how a run that did not finish ended (`stopped` is why it was
+/// stopped, if it was); a finished run's answer is given back, for its
+/// kind's ending to store.
+pub(super) async fn unless_done<T>(
     state: &AppState,
     lease: &Lease,
-    outcome: Outcome,
+    ran: Ran<T>,
     stopped: Option<StopReason>,
-    seed: u64,
-) {
-    match outcome {
-        Ok(Ok(outcome)) => succeed(state, lease, &DesignReport::new(&outcome, seed)).await,
-        Ok(Err(DesignRunError::Cancelled)) => match stopped {
+) -> Option<T> {
+    match ran {
+        Ran::Done(answer) => return Some(answer),
+        Ran::Stopped => match stopped {
             Some(StopReason::Shutdown) => {
                 // Back to the queue: the next start (or another node) resumes
-                // from the checkpoint. Tried once: the process is leaving, and
-                // a lease that runs out comes back to the queue as well.
+                // a design from its checkpoint. Tried once: the process is
+                // leaving, and a lease that runs out comes back to the queue
+                // as well.
                 if let Err(e) = state.store.requeue(lease).await {
                     tracing::error!("re-queueing: {e}");
                 }
@@ -48,14 +69,14 @@ pub(super) async fn conclude(
             }
             _ => tracing::info!("stopped: cancelled"),
         },
-        Ok(Err(e)) => fail(state, lease, &e.to_string()).await,
-        Err(e) => fail(state, lease, &format!("internal error: {e}")).await,
+        Ran::Failed(error) => fail(state, lease, &error).await,
     }
+    None
 }
 
 /// Stores the result, its files and the `done` event, and marks the job
 /// succeeded.
-async fn succeed(state: &AppState, lease: &Lease, report: &DesignReport) {
+pub(super) async fn succeed(state: &AppState, lease: &Lease, report: &DesignReport) {
     let written = design_json(report).and_then(|json| Ok((json, design_files(report)?)));
     let (result, files) = match written {
         Ok(written) => written,
@@ -105,7 +126,11 @@ pub(super) async fn fail(state: &AppState, lease: &Lease, error: &str) {
 /// unavailable (see [`store::unavailable`]) it is tried again, after
 /// 0.25 s, 0.5 s, 1 s and then every 2 s, unless the node is shutting down.
 /// Any other error is returned at once.
-async fn until_stored<T, F, W>(state: &AppState, what: &str, mut write: W) -> Result<T, sqlx::Error>
+pub(super) async fn until_stored<T, F, W>(
+    state: &AppState,
+    what: &str,
+    mut write: W,
+) -> Result<T, sqlx::Error>
 where
     W: FnMut() -> F,
     F: Future<Output = Result<T, sqlx::Error>>,
@@ -124,6 +149,6 @@ where
 }
 
 /// NaN and infinities have no JSON form: report them as null.
-fn finite(x: f64) -> Option<f64> {
+pub(super) fn finite(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }

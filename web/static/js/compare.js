@@ -3,9 +3,10 @@
 // scan of it (a .ply, .obj, .stl, .xyz or .pts file) sent as it is to
 // POST /v1/jobs/{id}/compare/scan; the figures, every patch's stretch (the
 // one that diverges most marked) and the measured centreline in 3D over
-// the prediction.
+// the prediction; then the offer to calibrate to it.
 
 import { api } from "./api.js";
+import { builtOf, offerCalibration } from "./calibration.js";
 import { $, el, num } from "./dom.js";
 
 const SCAN_FORMATS = ["ply", "obj", "stl", "xyz", "pts"];
@@ -17,17 +18,19 @@ function scanFormat(file) {
 }
 
 /** The comparison of job `jobId` with what the page holds: the file chosen
- *  (a scan or a centreline) or the pasted lines. */
+ *  (a scan or a centreline) or the pasted lines; and what was sent. */
 async function measure(jobId) {
   const file = $("#measured-file").files[0];
   const units = $("#measured-units").value;
   const format = scanFormat(file);
   if (format) {
-    return api("POST", `/v1/jobs/${jobId}/compare/scan?format=${format}&units=${units}`, undefined, { bytes: file });
+    const path = `/v1/jobs/${jobId}/compare/scan?format=${format}&units=${units}`;
+    return { comparison: await api("POST", path, undefined, { bytes: file }), sent: null };
   }
   const csv = file ? await file.text() : $("#measured-text").value;
   if (!csv.trim()) throw new Error("choose a file or paste the measured points");
-  return api("POST", `/v1/jobs/${jobId}/compare`, { measured: { csv }, units });
+  const sent = { measured: { csv }, units };
+  return { comparison: await api("POST", `/v1/jobs/${jobId}/compare`, sent), sent };
 }
 
 const shape = (f) => `${num(f.shape_error_percent, 3)} % of the length (${num(f.shape_error_mm, 3)} mm RMS), largest ${num(f.largest_mm, 3)} mm at ${num(100 * f.largest_at_fraction, 2)} % from the base`;
@@ -67,15 +70,17 @@ export function offerComparison(page, jobId, draw) {
   $("#compare-error").textContent = "";
   $("#compare-facts").replaceChildren();
   $("#compare-table").replaceChildren();
+  $("#calibrate-offer").hidden = true;
   $("#compare").onclick = async () => {
     $("#compare-error").textContent = "";
     $("#compare").disabled = true;
     try {
-      const c = await measure(jobId);
+      const { comparison: c, sent } = await measure(jobId);
       page.comparison = c; // for the browser tests and the console
       $("#compare-facts").replaceChildren(...facts(c));
       $("#compare-table").replaceChildren(...table(c));
       draw(c);
+      offerCalibration(jobId, builtOf(jobId, c, sent));
     } catch (error) {
       $("#compare-error").textContent = error.field ? `${error.field}: ${error.message}` : error.message;
     } finally {

@@ -43,7 +43,8 @@ export class JobList {
         this.refresh();
       } });
     return el("tr", { "data-job": job.id },
-      el("td", {}, el("a", { href: `#/jobs/${job.id}`, text: job.id.slice(0, 8), title: job.id })),
+      el("td", {}, el("a", { href: `#/jobs/${job.id}`, text: job.id.slice(0, 8), title: job.id }),
+        job.kind === "calibrate" ? " calibration" : ""),
       el("td", {}, el("span", { class: `badge ${job.status}`, text: job.status })),
       el("td", { text: age(job.created_at) }),
       el("td", {}, running ? act("Cancel", "POST", `/v1/jobs/${job.id}/cancel`) : act("Delete", "DELETE", `/v1/jobs/${job.id}`)));

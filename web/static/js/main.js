@@ -5,6 +5,7 @@
 import { onUnauthorized, apiKey, setApiKey, api } from "./api.js";
 import { $, el } from "./dom.js";
 import { CurveInput } from "./curve.js";
+import { loadProfiles } from "./calibration.js";
 import { fillForm, submit } from "./submit.js";
 import { JobPage } from "./watch.js";
 import { JobList } from "./jobs.js";
@@ -87,6 +88,8 @@ class Page {
       $("#compare-panel").hidden = true;
       $("#template-panel").hidden = true;
       if (this.started) this.curve.preview();
+      loadProfiles(this.useProfile);
+      this.useProfile = undefined;
     }
   }
 
@@ -97,7 +100,7 @@ class Page {
 
   editAgain(request) {
     if (!request) return;
-    fillForm(request);
+    this.useProfile = fillForm(request) ?? "";
     location.hash = "#/";
     this.curve.fill(request);
   }
@@ -107,6 +110,16 @@ class Page {
       if (DESIGN_ITEMS.some((d) => name.startsWith(d))) this.view.set(name, null);
     }
     this.view.render();
+  }
+
+  /** Nothing on the 3D view and the plots, `caption` where the patches go
+   *  (a job with no curve to show). */
+  clearStage(caption) {
+    for (const name of [...this.view.items.keys()]) this.view.set(name, null);
+    this.view.render();
+    $("#profiles").replaceChildren();
+    $("#unrolled").replaceChildren();
+    $("#unrolled-caption").textContent = caption;
   }
 
   /** The target (as the server reads it) in 3D, its profiles, and KSA's first guess. */

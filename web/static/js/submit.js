@@ -1,4 +1,5 @@
-// The design form: fidelity, seed, budget, balloon, patches and bounds,
+// The design form: fidelity, seed, budget, balloon profile or balloon,
+// patches and bounds,
 // sent with the curve as POST /v1/jobs. The server's validation errors go
 // beside the field they name.
 
@@ -53,10 +54,13 @@ export function jobRequest(curveSpec) {
       throw new ApiError(422, { detail: `not JSON: ${e.message}`, field: path.join(".") });
     }
   }
+  const profile = $("#balloon-profile").value;
+  if (profile) request.balloon_profile = profile;
   return request;
 }
 
-/** Sets the form from a job's request (to edit and run again). */
+/** Sets the form from a job's request (to edit and run again); answers
+ *  the balloon profile it named, for the profile choice to keep. */
 export function fillForm(request) {
   $("#fidelity").value = request.options?.fidelity || "standard";
   for (const [id, path] of NUMBERS) $(id).value = get(request, path) ?? (id === "#seed" ? 1 : "");
@@ -64,6 +68,7 @@ export function fillForm(request) {
     const material = get(request, path);
     $(id).value = material ? JSON.stringify(material) : "";
   }
+  return request.balloon_profile;
 }
 
 /** Submits; resolves to the created job, or shows the problem and resolves to null. */

@@ -1,12 +1,14 @@
 // One job: its target, live progress over server-sent events (stage,
 // generation, evaluations against the budget, best objective as a chart,
 // elapsed time and what is left of the search), cancel and delete; the
-// result when it succeeds.
+// result when it succeeds. A calibration job shows its iterations and its
+// answer instead (calibration.js).
 
 import { api } from "./api.js";
 import { $, duration, el, num } from "./dom.js";
 import { followEvents } from "./events.js";
 import { lineChart } from "./plot.js";
+import { hideCalibration, progressFacts, showCalibration } from "./calibration.js";
 import { showResult } from "./result.js";
 
 const STAGES = {
@@ -20,6 +22,7 @@ const STAGES = {
   refine: "refine: Levenberg–Marquardt on the shape error",
   layout: "layout: patches added where the curve bends gently, or taken out",
   final_refine: "final refine: the refine on the finest model",
+  calibrate: "calibrate: the material fitted to the measurements",
 };
 
 const running = (job) => job.status === "queued" || job.status === "running";
@@ -49,6 +52,7 @@ export class JobPage {
     $("#patches-panel").hidden = true;
     $("#compare-panel").hidden = true;
     $("#template-panel").hidden = true;
+    hideCalibration();
     $("#job-heading").textContent = `Job ${id.slice(0, 8)}…`;
     $("#unrolled-caption").textContent = "The design's patches on the unrolled balloon, when it is done";
     $("#unrolled").replaceChildren();
@@ -59,9 +63,13 @@ export class JobPage {
       this.status(`cannot open: ${error.message}`, "failed");
       return;
     }
+    if (this.calibration()) {
+      $("#job-heading").textContent = `Calibration ${id.slice(0, 8)}…`;
+      this.page.clearStage("A calibration: the fitted materials and their files are on the left");
+    }
     this.showStatus();
     this.preview = null;
-    if (this.job.request) {
+    if (this.job.request && !this.calibration()) {
       const { curve, units, options } = this.job.request;
       try {
         this.preview = await api("POST", "/v1/curve", { curve, units, smooth_mm: options?.smooth_mm });
@@ -74,12 +82,17 @@ export class JobPage {
     this.stop = stream.stop;
   }
 
+  calibration() {
+    return this.job?.kind === "calibrate";
+  }
+
   showStatus() {
     const job = this.job;
     this.status(job.status, job.status);
     const running = job.status === "queued" || job.status === "running";
     $("#job-cancel").disabled = !running;
     $("#job-delete").disabled = running;
+    $("#job-again").hidden = this.calibration();
     this.facts();
   }
 
@@ -105,7 +118,7 @@ export class JobPage {
       this.stage = data.stage;
       this.job.status = "running";
       this.progress.push(data);
-      this.drawProgress();
+      if (!this.calibration()) this.drawProgress();
       this.showStatus();
     } else if (event === "reach") {
       this.reach = data;
@@ -126,6 +139,7 @@ export class JobPage {
   }
 
   facts() {
+    if (this.calibration()) return this.calibrationFacts();
     const last = this.progress[this.progress.length - 1];
     const budget = this.job.search_budget;
     const rows = [
@@ -152,6 +166,18 @@ export class JobPage {
     $("#job-facts").replaceChildren(...rows.filter(Boolean).flatMap(([k, v]) => [el("dt", { text: k }), el("dd", { text: String(v) })]));
   }
 
+  calibrationFacts() {
+    const rows = [
+      ["created", new Date(this.job.created_at).toLocaleString()],
+      ["fits", (this.job.fit || []).join(", ")],
+      ...(running(this.job) ? [
+        this.stage && ["stage", STAGES[this.stage] || this.stage],
+        ...progressFacts(this.progress[this.progress.length - 1] ?? this.job.progress),
+      ] : []),
+    ];
+    $("#job-facts").replaceChildren(...rows.filter(Boolean).flatMap(([k, v]) => [el("dt", { text: k }), el("dd", { text: String(v) })]));
+  }
+
   drawProgress() {
     $("#progress-panel").hidden = false;
     const points = this.progress.filter((p) => Number.isFinite(p.best_objective));
@@ -164,6 +190,7 @@ export class JobPage {
   async loadResult() {
     try {
       const result = await api("GET", `/v1/jobs/${this.id}/result`);
+      if (this.calibration()) return showCalibration(this.page, this.id, this.job, result);
       $("#downloads").hidden = false;
       await showResult(this.page, this.id, result, this.preview);
     } catch (error) {

@@ -14,9 +14,9 @@ use crate::design::Design;
 #[serde(deny_unknown_fields)]
 pub struct Inflation {
     pub pressure_kpa: f64,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length_mm: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub diameter_mm: Option<f64>,
 }
 

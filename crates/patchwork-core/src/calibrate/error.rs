@@ -28,4 +28,6 @@ pub enum CalibrationError {
         "the model cannot inflate the balloon at every pressure given from this material (no stable state): check the pressures and the starting material"
     )]
     NoStart,
+    #[error("the calibration was stopped before it finished")]
+    Cancelled,
 }

@@ -29,17 +29,38 @@ pub struct Fit {
     pub evaluations: usize,
 }
 
+/// Called after the start and after each iteration with the point, its
+/// residuals and the evaluations so far; answers whether to go on.
+pub type StepFn<'a> = dyn FnMut(&[f64], &[f64], usize) -> bool + 'a;
+
+/// Why a fit has no answer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoFit {
+    /// The model has no answer at the start.
+    NoStart,
+    /// `watch` said stop.
+    Stopped,
+}
+
 /// Minimises |r(x)|² from `start`; `r` answers none where the model has no
-/// answer (a step there is refused).
-pub fn levenberg_marquardt(start: Vec<f64>, r: &ResidualFn) -> Option<Fit> {
+/// answer (a step there is refused). `watch` sees every iteration and
+/// can stop the fit.
+pub fn levenberg_marquardt(
+    start: Vec<f64>,
+    r: &ResidualFn,
+    watch: &mut StepFn,
+) -> Result<Fit, NoFit> {
     let mut x = start;
-    let mut rx = r(&x)?;
+    let mut rx = r(&x).ok_or(NoFit::NoStart)?;
     let start_residuals = rx.clone();
     let mut evaluations = 1;
     let mut damping = 1e-3;
     let cost = |v: &[f64]| v.iter().map(|e| e * e).sum::<f64>();
-    let mut jacobian = jacobian_at(&x, &rx, r, &mut evaluations)?;
+    let mut jacobian = jacobian_at(&x, &rx, r, &mut evaluations).ok_or(NoFit::NoStart)?;
     for _ in 0..MAX_ITERATIONS {
+        if !watch(&x, &rx, evaluations) {
+            return Err(NoFit::Stopped);
+        }
         let jtj = jacobian.transpose() * &jacobian;
         let g = jacobian.transpose() * DVector::from_column_slice(&rx);
         let mut a = jtj.clone();
@@ -73,9 +94,12 @@ pub fn levenberg_marquardt(start: Vec<f64>, r: &ResidualFn) -> Option<Fit> {
             }
         }
     }
+    if !watch(&x, &rx, evaluations) {
+        return Err(NoFit::Stopped);
+    }
     let mut fit = statistics(x, rx, &jacobian, evaluations);
     fit.start_residuals = start_residuals;
-    Some(fit)
+    Ok(fit)
 }
 
 fn jacobian_at(

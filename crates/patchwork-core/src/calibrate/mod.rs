@@ -30,7 +30,7 @@ pub use answer::{BuiltFit, Calibration, Fitted, Residual};
 pub use data::{Built, Inflation, Measurements, PressureVolume};
 pub use error::CalibrationError;
 pub use parameters::{Materials, Parameter};
-pub use run::calibrate;
+pub use run::{CalibrationProgress, calibrate, calibrate_watched, check};
 
 #[cfg(test)]
 mod tests;

@@ -46,6 +46,28 @@ const ALL: [Parameter; 5] = [
 ];
 
 impl Parameter {
+    /// What to fit when the user does not say: the modulus; the law's
+    /// stiffening where the bare balloon was measured (its length and
+    /// diameter over pressures tell it); the patch's modulus where built
+    /// designs were.
+    pub fn defaults(balloon: &Material, data: &super::data::Measurements) -> Vec<Parameter> {
+        let stiffening = match balloon.law {
+            Law::ArrudaBoyce { .. } => Some(Parameter::LambdaM),
+            Law::Gent { .. } => Some(Parameter::Jm),
+            _ => None,
+        };
+        let bare = !(data.inflation.is_empty() && data.pressure_volume.is_empty());
+        let patch = !data.built.is_empty();
+        [Some(Parameter::Modulus)]
+            .into_iter()
+            .chain([
+                stiffening.filter(|_| bare),
+                patch.then_some(Parameter::PatchModulus),
+            ])
+            .flatten()
+            .collect()
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Parameter::Modulus => "modulus",

@@ -31,6 +31,35 @@ pub struct Problem<'a> {
     pub built: Vec<Prepared>,
 }
 
+/// The checks of `fit` against the data that need no solve: every
+/// parameter in the materials, the patch's only with built designs, no
+/// more parameters than values. Answers the P–V points fitted and left out.
+pub fn check_fit(
+    start: &Materials,
+    data: &Measurements,
+    fit: &[Parameter],
+) -> Result<(Vec<usize>, Vec<usize>), CalibrationError> {
+    for p in fit {
+        p.value(start)
+            .ok_or(CalibrationError::NoSuchParameter(p.name()))?;
+        if p.of_patch() && data.built.is_empty() {
+            return Err(CalibrationError::PatchWithoutBuilt);
+        }
+    }
+    let pressure_volume = data.fitted_pressure_volume();
+    if !data.pressure_volume.is_empty() && pressure_volume.0.is_empty() {
+        return Err(CalibrationError::NoRisingPressureVolume);
+    }
+    let measured = data.count() - pressure_volume.1.len();
+    if measured < fit.len() {
+        return Err(CalibrationError::TooFewData {
+            measured,
+            parameters: fit.len(),
+        });
+    }
+    Ok(pressure_volume)
+}
+
 impl<'a> Problem<'a> {
     pub fn new(
         balloon: &Balloon,
@@ -38,24 +67,7 @@ impl<'a> Problem<'a> {
         data: &'a Measurements,
         fit: &[Parameter],
     ) -> Result<Problem<'a>, CalibrationError> {
-        for p in fit {
-            p.value(&start)
-                .ok_or(CalibrationError::NoSuchParameter(p.name()))?;
-            if p.of_patch() && data.built.is_empty() {
-                return Err(CalibrationError::PatchWithoutBuilt);
-            }
-        }
-        let pressure_volume = data.fitted_pressure_volume();
-        if !data.pressure_volume.is_empty() && pressure_volume.0.is_empty() {
-            return Err(CalibrationError::NoRisingPressureVolume);
-        }
-        let measured = data.count() - pressure_volume.1.len();
-        if measured < fit.len() {
-            return Err(CalibrationError::TooFewData {
-                measured,
-                parameters: fit.len(),
-            });
-        }
+        let pressure_volume = check_fit(&start, data, fit)?;
         let mut pressures: Vec<f64> = data
             .inflation
             .iter()
@@ -98,6 +110,12 @@ impl<'a> Problem<'a> {
             .iter()
             .zip(log)
             .fold(self.start.clone(), |m, (p, v)| p.with(&m, v.exp()))
+    }
+
+    /// FE solves after `evaluations` of the residuals (a built design's
+    /// starting state, solved once to orient its measurement, counts too).
+    pub fn solves(&self, evaluations: usize) -> usize {
+        evaluations * self.solves_per_evaluation() + self.built.len()
     }
 
     /// FE solves per evaluation.

@@ -33,9 +33,7 @@ pub fn report(problem: &Problem, result: &Fit) -> Calibration {
             }
         })
         .collect();
-    let rms = (result.residuals.iter().map(|r| r * r).sum::<f64>()
-        / result.residuals.len().max(1) as f64)
-        .sqrt();
+    let rms_percent = rms_percent(&result.residuals);
     let residuals = predictions
         .as_ref()
         .map_or_else(Vec::new, |p| bare_residuals(problem, p));
@@ -43,14 +41,19 @@ pub fn report(problem: &Problem, result: &Fit) -> Calibration {
         material: materials.balloon,
         patch_material: materials.patch,
         parameters,
-        warnings: warnings(problem, result, 100.0 * rms, &residuals),
+        warnings: warnings(problem, result, rms_percent, &residuals),
         residuals,
         built: predictions
             .as_ref()
             .map_or_else(Vec::new, |p| built_fits(problem, result, p)),
-        rms_percent: 100.0 * rms,
-        solves: result.evaluations * problem.solves_per_evaluation() + problem.built.len(),
+        rms_percent,
+        solves: problem.solves(result.evaluations),
     }
+}
+
+/// RMS of relative residuals, in %.
+pub fn rms_percent(residuals: &[f64]) -> f64 {
+    100.0 * (residuals.iter().map(|r| r * r).sum::<f64>() / residuals.len().max(1) as f64).sqrt()
 }
 
 fn bare_residuals(problem: &Problem, predictions: &Predictions) -> Vec<Residual> {

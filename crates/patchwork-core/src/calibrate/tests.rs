@@ -326,3 +326,31 @@ fn contradictory_data_are_refused_and_a_poor_fit_is_said() {
         poor.warnings
     );
 }
+
+#[test]
+fn a_watched_calibration_reports_each_iteration_and_stops_when_asked() {
+    let data = inflations(measured(&[20.0], 0.0));
+    let (start, p) = (start(), patch());
+    let fit = [Parameter::Modulus];
+    let mut steps = Vec::new();
+    let never = std::sync::atomic::AtomicBool::new(false);
+    let c = calibrate_watched(&start, &p, &data, &fit, &never, &mut |s| {
+        steps.push(s.clone())
+    })
+    .unwrap();
+    // The start, each iteration, and the end: the last is the answer.
+    assert!(steps.len() >= 2, "{steps:?}");
+    assert_eq!(steps[0].iteration, 0);
+    assert!(steps[0].rms_percent > c.rms_percent, "{steps:?}");
+    let last = steps.last().unwrap();
+    assert_eq!(last.values[0].0, Parameter::Modulus);
+    assert!((last.values[0].1 / c.parameters[0].value - 1.0).abs() < 1e-12);
+    assert!((last.rms_percent - c.rms_percent).abs() < 1e-9);
+    assert!(steps.windows(2).all(|w| w[0].solves < w[1].solves));
+    // Stopped at its first report: no answer, and said so.
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let stopped = calibrate_watched(&start, &p, &data, &fit, &cancel, &mut |_| {
+        cancel.store(true, std::sync::atomic::Ordering::Relaxed)
+    });
+    assert_eq!(stopped.unwrap_err(), CalibrationError::Cancelled);
+}

@@ -1,0 +1,52 @@
+//! The balloon profiles' part of the store contract (`conformance.rs` runs
+//! it against each backend): a profile is its owner's, replaced in place,
+//! listed by name, and deleted once.
+
+use super::Store;
+
+pub(super) async fn profiles_are_kept_per_owner_and_replaced_in_place(store: Store) {
+    let first = r#"{"balloon": {"length_mm": 300}}"#;
+    assert!(
+        store
+            .put_profile("lab", "batch-7", first, None)
+            .await
+            .unwrap()
+    );
+    assert!(store.put_profile("lab", "aged", first, None).await.unwrap());
+    assert!(
+        store
+            .put_profile("other", "batch-7", "{}", None)
+            .await
+            .unwrap()
+    );
+    let before = store.profile("lab", "batch-7").await.unwrap().unwrap();
+    assert_eq!((before.profile.as_str(), before.source_job), (first, None));
+    let second = r#"{"balloon": {"length_mm": 310}}"#;
+    let job = uuid::Uuid::now_v7().to_string();
+    let created = store.put_profile("lab", "batch-7", second, Some(&job));
+    assert!(!created.await.unwrap(), "replaced, not created");
+    let after = store.profile("lab", "batch-7").await.unwrap().unwrap();
+    assert_eq!(after.profile, second);
+    assert_eq!(after.source_job.as_deref(), Some(job.as_str()));
+    assert_eq!(after.created_at, before.created_at);
+    assert!(after.updated_at >= before.updated_at);
+    let names: Vec<String> = (store.profiles("lab").await.unwrap())
+        .into_iter()
+        .map(|p| p.name)
+        .collect();
+    assert_eq!(names, ["aged", "batch-7"]);
+    assert_eq!(
+        store
+            .profile("other", "batch-7")
+            .await
+            .unwrap()
+            .unwrap()
+            .profile,
+        "{}"
+    );
+    assert!(store.profile("nobody", "batch-7").await.unwrap().is_none());
+    assert!(store.delete_profile("lab", "batch-7").await.unwrap());
+    assert!(!store.delete_profile("lab", "batch-7").await.unwrap());
+    assert!(store.profile("lab", "batch-7").await.unwrap().is_none());
+    assert!(store.profile("other", "batch-7").await.unwrap().is_some());
+}

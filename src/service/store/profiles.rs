@@ -1,0 +1,89 @@
+//! The balloon profiles' statements, written once for both backends (as
+//! `statements.rs` writes the jobs'): `profile_store!(Backend)` implements
+//! [`ProfileStore`](super::contract::ProfileStore) over the backend's `pool`.
+
+macro_rules! profile_store {
+    ($store:ty) => {
+        const _: () = {
+            use $crate::service::store::contract::ProfileStore;
+            use $crate::service::store::{ProfileRow, now};
+
+            const COLUMNS: &str = "name, profile, source_job, created_at, updated_at";
+
+            #[async_trait::async_trait]
+            impl ProfileStore for $store {
+                async fn put_profile(
+                    &self,
+                    owner: &str,
+                    name: &str,
+                    profile: &str,
+                    source_job: Option<&str>,
+                ) -> Result<bool, sqlx::Error> {
+                    let mut tx = self.pool.begin().await?;
+                    let existed: Option<String> = sqlx::query_scalar(
+                        "SELECT name FROM balloon_profiles WHERE owner = $1 AND name = $2",
+                    )
+                    .bind(owner)
+                    .bind(name)
+                    .fetch_optional(&mut *tx)
+                    .await?;
+                    sqlx::query(
+                        "INSERT INTO balloon_profiles
+                           (owner, name, profile, source_job, created_at, updated_at)
+                         VALUES ($1, $2, $3, $4, $5, $5)
+                         ON CONFLICT (owner, name) DO UPDATE SET
+                           profile = excluded.profile, source_job = excluded.source_job,
+                           updated_at = excluded.updated_at",
+                    )
+                    .bind(owner)
+                    .bind(name)
+                    .bind(profile)
+                    .bind(source_job)
+                    .bind(now())
+                    .execute(&mut *tx)
+                    .await?;
+                    tx.commit().await?;
+                    Ok(existed.is_none())
+                }
+
+                async fn profile(
+                    &self,
+                    owner: &str,
+                    name: &str,
+                ) -> Result<Option<ProfileRow>, sqlx::Error> {
+                    let sql = format!(
+                        "SELECT {COLUMNS} FROM balloon_profiles WHERE owner = $1 AND name = $2"
+                    );
+                    sqlx::query_as(&sql)
+                        .bind(owner)
+                        .bind(name)
+                        .fetch_optional(&self.pool)
+                        .await
+                }
+
+                async fn profiles(&self, owner: &str) -> Result<Vec<ProfileRow>, sqlx::Error> {
+                    let sql = format!(
+                        "SELECT {COLUMNS} FROM balloon_profiles WHERE owner = $1 ORDER BY name"
+                    );
+                    sqlx::query_as(&sql).bind(owner).fetch_all(&self.pool).await
+                }
+
+                async fn delete_profile(
+                    &self,
+                    owner: &str,
+                    name: &str,
+                ) -> Result<bool, sqlx::Error> {
+                    let deleted =
+                        sqlx::query("DELETE FROM balloon_profiles WHERE owner = $1 AND name = $2")
+                            .bind(owner)
+                            .bind(name)
+                            .execute(&self.pool)
+                            .await?;
+                    Ok(deleted.rows_affected() == 1)
+                }
+            }
+        };
+    };
+}
+
+pub(super) use profile_store;
