@@ -2,7 +2,9 @@
 //! SQLite file into PostgreSQL when a lab outgrows one machine, or back.
 //! Each job goes with its events, iterations and result files, in one
 //! transaction; a job the destination already has is skipped, so a copy
-//! that stopped half-way can simply be run again. A job whose idempotency
+//! that stopped half-way can simply be run again. The balloon profiles go
+//! too; one whose key already has a profile of its name there is kept as
+//! the destination has it. A job whose idempotency
 //! key another job of the destination already holds is not copied, and
 //! the command says so and fails. The source is read, never
 //! changed (apart from migrating it, as `serve` would).
@@ -35,6 +37,9 @@ struct Tally {
     /// Jobs not copied: their owner's idempotency key belongs to another
     /// job in the destination.
     clashes: Vec<String>,
+    profiles: usize,
+    /// Profiles the destination already had (by key and name).
+    profiles_kept: usize,
 }
 
 pub fn run(args: CopyJobsArgs) -> Result<()> {
@@ -53,11 +58,13 @@ pub fn run(args: CopyJobsArgs) -> Result<()> {
         .context("starting the async runtime")?;
     let tally = runtime.block_on(copy(&from, &to))?;
     println!(
-        "copied {} ({}, {}) from {from} to {to}; {} already there, skipped",
+        "copied {} ({}, {}) and {} from {from} to {to}; {} and {} already there, skipped",
         count(tally.copied, "job"),
         count(tally.events, "event"),
         count(tally.files, "file"),
-        tally.skipped
+        count(tally.profiles, "balloon profile"),
+        count(tally.skipped, "job"),
+        count(tally.profiles_kept, "profile"),
     );
     if let [first, ..] = tally.clashes.as_slice() {
         bail!(
@@ -108,6 +115,20 @@ async fn copy(from: &Database, to: &Database) -> Result<Tally> {
             tally.skipped += 1;
         } else {
             tally.clashes.push(id.clone());
+        }
+    }
+    for profile in source
+        .all_profiles()
+        .await
+        .context("--from: reading the balloon profiles")?
+    {
+        let written = destination
+            .import_profile(&profile)
+            .await
+            .with_context(|| format!("--to: writing the balloon profile {}", profile.name))?;
+        match written {
+            true => tally.profiles += 1,
+            false => tally.profiles_kept += 1,
         }
     }
     // Jobs copied from a store that predates job specs get theirs here, so

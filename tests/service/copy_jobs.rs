@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
 
-use serde_json::Value;
+use serde_json::{Value, json};
 
 use crate::support::*;
 
@@ -76,6 +76,15 @@ async fn copied_jobs_are_served_as_they_were_and_unfinished_ones_go_on() {
     })
     .await;
     let queued = api.submit(&quick_job(7)).await;
+    let profile =
+        json!({"balloon": {"length_mm": 250, "material": {"model": "neo_hookean", "mu_mpa": 0.3}}});
+    let put = (api.request(reqwest::Method::PUT, "/v1/balloons/latex-7"))
+        .json(&profile)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(put.status(), 201);
+    let saved = text(&api, "/v1/balloons/latex-7").await;
     let result = text(&api, &format!("/v1/jobs/{done}/result")).await;
     let dxf = text(&api, &format!("/v1/jobs/{done}/files/patches.dxf")).await;
     let events = read_events(&api, &done, None, |_| false).await;
@@ -85,6 +94,7 @@ async fn copied_jobs_are_served_as_they_were_and_unfinished_ones_go_on() {
     let to = database_for(&copy, None);
     let said = copy_jobs(&lab, &to);
     assert!(said.starts_with("copied 4 jobs"), "{said}");
+    assert!(said.contains("and 1 balloon profile from"), "{said}");
     let served = Server::with(Options {
         workers: Some(1),
         db: Some(copy),
@@ -98,6 +108,7 @@ async fn copied_jobs_are_served_as_they_were_and_unfinished_ones_go_on() {
     let ids = |e: &[SseEvent]| e.iter().map(|e| (e.id, e.kind.clone())).collect::<Vec<_>>();
     assert_eq!(ids(&copied), ids(&events));
     assert_eq!(api.job(&cancelled).await["status"], "cancelled");
+    assert_eq!(text(&api, "/v1/balloons/latex-7").await, saved);
 
     let after = read_events(&api, &running, Some(before.last().unwrap().id), |_| false).await;
     let resumed = after.iter().find(|e| e.kind == "progress").unwrap();
@@ -116,7 +127,10 @@ async fn copied_jobs_are_served_as_they_were_and_unfinished_ones_go_on() {
 
     let again = copy_jobs(&lab, &to);
     assert!(again.starts_with("copied 0 jobs"), "{again}");
-    assert!(again.ends_with("4 already there, skipped"), "{again}");
+    assert!(
+        again.ends_with("4 jobs and 1 profile already there, skipped"),
+        "{again}"
+    );
     drop(served);
 
     // A store where the key "run-1" already made another job: that job is

@@ -423,7 +423,8 @@ async fn keeps_the_contract(backend: Backend) {
     an_exported_job_is_imported_once_and_numbers_on(from, into).await;
     let (from, into) = (backend.fresh().await, backend.fresh().await);
     a_job_without_a_spec_gets_one_once(from, into).await;
-    profiles_are_kept_per_owner_and_replaced_in_place(backend.fresh().await).await;
+    let (from, into) = (backend.fresh().await, backend.fresh().await);
+    profiles_are_kept_per_owner_and_replaced_in_place(from, into).await;
     assert!(backend.fresh().await.ping().await);
 }
 

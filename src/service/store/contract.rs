@@ -183,6 +183,14 @@ pub trait ProfileStore: Send + Sync {
 
     /// `false` when the owner has no such profile.
     async fn delete_profile(&self, owner: &str, name: &str) -> Result<bool, sqlx::Error>;
+
+    /// Every owner's profiles, by owner and name (`patchwork copy-jobs`).
+    async fn all_profiles(&self) -> Result<Vec<ProfileRow>, sqlx::Error>;
+
+    /// Stores a profile read from another store as it was (its times
+    /// kept); `false`, writing nothing, when its owner already has one of
+    /// that name here.
+    async fn import_profile(&self, profile: &ProfileRow) -> Result<bool, sqlx::Error>;
 }
 
 /// Whole jobs out of one store and into another (`patchwork copy-jobs`).

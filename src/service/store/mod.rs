@@ -106,6 +106,8 @@ pub struct JobRow {
 /// A balloon profile as stored.
 #[derive(Debug, Clone, FromRow)]
 pub struct ProfileRow {
+    /// The API key's digest it belongs to ('' when keys are off).
+    pub owner: String,
     pub name: String,
     /// `{"balloon": …, "patch": …}`, as JSON.
     pub profile: String,

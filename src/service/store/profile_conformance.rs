@@ -1,10 +1,10 @@
 //! The balloon profiles' part of the store contract (`conformance.rs` runs
 //! it against each backend): a profile is its owner's, replaced in place,
-//! listed by name, and deleted once.
+//! listed by name, deleted once, and copied to another store as it is.
 
 use super::Store;
 
-pub(super) async fn profiles_are_kept_per_owner_and_replaced_in_place(store: Store) {
+pub(super) async fn profiles_are_kept_per_owner_and_replaced_in_place(store: Store, into: Store) {
     let first = r#"{"balloon": {"length_mm": 300}}"#;
     assert!(
         store
@@ -45,6 +45,28 @@ pub(super) async fn profiles_are_kept_per_owner_and_replaced_in_place(store: Sto
         "{}"
     );
     assert!(store.profile("nobody", "batch-7").await.unwrap().is_none());
+    // Moved to another store as they are, once.
+    let all = store.all_profiles().await.unwrap();
+    assert_eq!(all.len(), 3);
+    for p in &all {
+        assert!(into.import_profile(p).await.unwrap());
+        assert!(!into.import_profile(p).await.unwrap());
+    }
+    let copied = into.profile("lab", "batch-7").await.unwrap().unwrap();
+    assert_eq!(
+        (
+            copied.profile,
+            copied.source_job,
+            copied.created_at,
+            copied.updated_at
+        ),
+        (
+            after.profile.clone(),
+            after.source_job.clone(),
+            after.created_at.clone(),
+            after.updated_at.clone()
+        )
+    );
     assert!(store.delete_profile("lab", "batch-7").await.unwrap());
     assert!(!store.delete_profile("lab", "batch-7").await.unwrap());
     assert!(store.profile("lab", "batch-7").await.unwrap().is_none());

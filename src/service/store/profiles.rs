@@ -8,7 +8,7 @@ macro_rules! profile_store {
             use $crate::service::store::contract::ProfileStore;
             use $crate::service::store::{ProfileRow, now};
 
-            const COLUMNS: &str = "name, profile, source_job, created_at, updated_at";
+            const COLUMNS: &str = "owner, name, profile, source_job, created_at, updated_at";
 
             #[async_trait::async_trait]
             impl ProfileStore for $store {
@@ -80,6 +80,30 @@ macro_rules! profile_store {
                             .execute(&self.pool)
                             .await?;
                     Ok(deleted.rows_affected() == 1)
+                }
+
+                async fn all_profiles(&self) -> Result<Vec<ProfileRow>, sqlx::Error> {
+                    let sql =
+                        format!("SELECT {COLUMNS} FROM balloon_profiles ORDER BY owner, name");
+                    sqlx::query_as(&sql).fetch_all(&self.pool).await
+                }
+
+                async fn import_profile(&self, p: &ProfileRow) -> Result<bool, sqlx::Error> {
+                    let inserted = sqlx::query(
+                        "INSERT INTO balloon_profiles
+                           (owner, name, profile, source_job, created_at, updated_at)
+                         VALUES ($1, $2, $3, $4, $5, $6)
+                         ON CONFLICT (owner, name) DO NOTHING",
+                    )
+                    .bind(&p.owner)
+                    .bind(&p.name)
+                    .bind(&p.profile)
+                    .bind(&p.source_job)
+                    .bind(&p.created_at)
+                    .bind(&p.updated_at)
+                    .execute(&self.pool)
+                    .await?;
+                    Ok(inserted.rows_affected() == 1)
                 }
             }
         };
