@@ -38,6 +38,7 @@ const ASSETS: &[(&str, &[u8])] = assets![
     "js/result.js",
     "js/compare.js",
     "js/calibration.js",
+    "js/calibrate_form.js",
     "js/jobs.js",
     "js/plot.js",
     "js/unrolled.js",

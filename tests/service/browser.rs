@@ -17,7 +17,7 @@ pub fn screenshots() -> PathBuf {
 }
 
 /// The page at 1280×800 with downloads going to `downloads`.
-async fn open(driver: &Driver, server: &Server, downloads: &Path) -> Session {
+pub async fn open(driver: &Driver, server: &Server, downloads: &Path) -> Session {
     let session = driver.session(1280, 800, downloads).await;
     session.goto(&format!("{}/", server.base)).await;
     session

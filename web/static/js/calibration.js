@@ -87,19 +87,25 @@ export function showCalibration(page, jobId, job, result) {
   }
 }
 
-/** Fills the design form's profile choice with this key's profiles,
- *  keeping (or setting) the one chosen. */
+/** Fills the forms' profile choices with this key's profiles, keeping
+ *  (or setting, for the design form) the one chosen. */
 export async function loadProfiles(chosen) {
-  const select = $("#balloon-profile");
-  const keep = chosen ?? select.value;
+  let balloons;
   try {
-    const { balloons } = await api("GET", "/v1/balloons");
-    const label = (b) => (typeof b.balloon.material?.mu_mpa === "number"
-      ? `${b.name} (μ ${num(b.balloon.material.mu_mpa, 4)} MPa)` : b.name);
-    const options = balloons.map((b) => el("option", { value: b.name, text: label(b) }));
-    select.replaceChildren(el("option", { value: "", text: "none: the balloon below" }), ...options);
-    select.value = balloons.some((b) => b.name === keep) ? keep : "";
+    ({ balloons } = await api("GET", "/v1/balloons"));
   } catch {
-    // Without profiles (or a key yet) the form goes on with the balloon below.
+    return; // without profiles (or a key yet) the forms go on with the balloon given
+  }
+  const label = (b) => (typeof b.balloon.material?.mu_mpa === "number"
+    ? `${b.name} (μ ${num(b.balloon.material.mu_mpa, 4)} MPa)` : b.name);
+  for (const [id, none, keep] of [
+    ["#balloon-profile", "none: the balloon below", chosen],
+    ["#calibrate-from", "none", undefined],
+  ]) {
+    const select = $(id);
+    const wanted = keep ?? select.value;
+    const options = balloons.map((b) => el("option", { value: b.name, text: label(b) }));
+    select.replaceChildren(el("option", { value: "", text: none }), ...options);
+    select.value = balloons.some((b) => b.name === wanted) ? wanted : "";
   }
 }

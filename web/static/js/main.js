@@ -1,10 +1,11 @@
-// The page: three views (new design, one job, the jobs list) chosen by the
-// address's hash (#/, #/jobs/ID, #/jobs), the API key when the server asks
+// The page: four views (new design, calibration, one job, the jobs list)
+// chosen by the address's hash (#/, #/calibrate, #/jobs/ID, #/jobs), the API key when the server asks
 // for one, and the shared 3D view and plots.
 
 import { onUnauthorized, apiKey, setApiKey, api } from "./api.js";
 import { $, el } from "./dom.js";
 import { CurveInput } from "./curve.js";
+import { CalibrateForm } from "./calibrate_form.js";
 import { loadProfiles } from "./calibration.js";
 import { fillForm, submit } from "./submit.js";
 import { JobPage } from "./watch.js";
@@ -29,6 +30,7 @@ class Page {
     });
     this.job = new JobPage(this);
     this.jobs = new JobList();
+    this.calibrate = new CalibrateForm();
     $("#design-form").addEventListener("submit", (e) => { e.preventDefault(); this.submit(); });
     $("#view-reset").addEventListener("click", () => this.view.fit());
     $("#show-surface").addEventListener("change", (e) => this.view.setVisible("surface", e.target.checked));
@@ -70,17 +72,25 @@ class Page {
   navigate() {
     const hash = location.hash || "#/";
     const jobMatch = hash.match(/^#\/jobs\/([\w-]+)/);
-    this.route = jobMatch ? "job" : hash.startsWith("#/jobs") ? "jobs" : "design";
+    this.route = jobMatch ? "job" : hash.startsWith("#/jobs") ? "jobs"
+      : hash.startsWith("#/calibrate") ? "calibrate" : "design";
     $("#view-design").hidden = this.route !== "design";
+    $("#view-calibrate").hidden = this.route !== "calibrate";
     $("#view-job").hidden = this.route !== "job";
     $("#view-jobs").hidden = this.route !== "jobs";
     $("#nav-design").toggleAttribute("aria-current", this.route === "design");
-    $("#nav-jobs").toggleAttribute("aria-current", this.route !== "design");
+    $("#nav-jobs").toggleAttribute("aria-current", this.route === "jobs" || this.route === "job");
+    $("#nav-calibrate").toggleAttribute("aria-current", this.route === "calibrate");
+    if ($("#nav-calibrate").hasAttribute("aria-current")) $("#nav-calibrate").setAttribute("aria-current", "page");
     if ($("#nav-design").hasAttribute("aria-current")) $("#nav-design").setAttribute("aria-current", "page");
     if ($("#nav-jobs").hasAttribute("aria-current")) $("#nav-jobs").setAttribute("aria-current", "page");
     if (this.route !== "job") this.job.close();
     if (this.route === "jobs") this.jobs.show(); else this.jobs.hide();
     if (this.route === "job") this.job.open(jobMatch[1]);
+    if (this.route === "calibrate") {
+      this.clearStage("Calibrating: the FE model's bare balloon fitted to the measurements");
+      loadProfiles();
+    }
     if (this.route === "design") {
       this.clearDesign();
       $("#progress-panel").hidden = true;
