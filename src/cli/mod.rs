@@ -13,6 +13,7 @@ mod output;
 mod preset_cmd;
 mod redesign_cmd;
 mod simulate_cmd;
+mod spread_cmd;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -48,6 +49,12 @@ enum Command {
     /// Forward model: inflate a design and report its centreline.
     #[command(after_help = "Example:\n  patchwork simulate out/design.json --out inflated/")]
     Simulate(simulate_cmd::SimulateArgs),
+    /// How sure a design is: the spread of its inflated centreline under
+    /// fabrication and pressure tolerances, and what matters most.
+    #[command(
+        after_help = "Example:\n  patchwork spread grasp/design.json --tolerances '{\"angle_deg\": 1}'"
+    )]
+    Spread(spread_cmd::SpreadArgs),
     /// Inverse design: patches for a target curve, with cut files.
     #[command(after_help = "Example:\n  patchwork design grasp.csv --out grasp/ --fidelity draft")]
     Design(design_cmd::DesignArgs),
@@ -95,6 +102,7 @@ pub fn run() -> Result<()> {
         Command::Ksa(args) => ksa_cmd::run(args),
         Command::Preset(args) => preset_cmd::run(args),
         Command::Simulate(args) => simulate_cmd::run(args),
+        Command::Spread(args) => spread_cmd::run(args),
         Command::Design(args) => design_cmd::run(args),
         Command::Compare(args) => compare_cmd::run(args),
         Command::Calibrate(args) => calibrate_cmd::run(args),

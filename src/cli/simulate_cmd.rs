@@ -56,7 +56,7 @@ pub struct SimulateArgs {
 /// a `design` and no `patches` of its own), or as `ksa --json` writes it
 /// (its patches on the reference scene with KSA's balloon length and
 /// radius).
-fn design_of(text: &str) -> Result<Design> {
+pub(super) fn design_of(text: &str) -> Result<Design> {
     let value: serde_json::Value = serde_json::from_str(text)?;
     if let Some(design) = ksa_design(&value)? {
         return Ok(design);

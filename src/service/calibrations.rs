@@ -19,12 +19,13 @@ use serde_json::Value;
 
 use super::auth::Owner;
 use super::balloons::{check_name, resolve};
-use super::jobs::{not_ready, owned, submit};
+use super::jobs::{not_ready, owned};
 use super::problem::{ApiJson, Problem};
 use super::profile::Profile;
 use super::request::CurveSpec;
 use super::spec::{CalibrateSpec, JobSpec};
 use super::state::AppState;
+use super::submit::submit;
 
 /// Most built balloons one calibration takes.
 const MAX_BUILT: usize = 20;

@@ -16,7 +16,8 @@ use serde::Deserialize;
 use serde_json::Value;
 
 use super::auth::Owner;
-use super::jobs::{kind_of, not_ready, owned};
+use super::job_view::kind_of;
+use super::jobs::{not_ready, owned};
 use super::problem::{ApiJson, Problem};
 use super::request::CurveSpec;
 use super::spec::JobKind;

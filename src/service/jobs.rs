@@ -4,102 +4,21 @@
 
 use axum::Extension;
 use axum::extract::{Path, Query, State};
-use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
+use axum::http::{HeaderMap, StatusCode, header};
 use axum::response::{IntoResponse, Response};
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 use serde_json::{Value, json};
 
 use super::auth::Owner;
 use super::balloons;
-use super::job_state::{Ending, EventKind, JobStatus};
+use super::job_state::{Ending, JobStatus};
+use super::job_view::{JobView, files_of, kind_of};
 use super::problem::{ApiJson, Problem};
 use super::request::JobRequest;
-use super::spec::{JobKind, JobSpec};
+use super::spec::JobSpec;
 use super::state::{AppState, StopReason};
 use super::store::JobRow;
-
-/// The files of a finished design job.
-pub const FILES: [&str; 6] = [
-    "patches.dxf",
-    "template.dxf",
-    "template.svg",
-    "profiles.svg",
-    "design.json",
-    "design.csv",
-];
-
-/// The files of a finished calibration job.
-pub const CALIBRATION_FILES: [&str; 2] = ["calibration.json", "options.json"];
-
-/// The files a job of `kind` ends with.
-fn files_of(kind: JobKind) -> &'static [&'static str] {
-    match kind {
-        JobKind::Design => &FILES,
-        JobKind::Calibrate => &CALIBRATION_FILES,
-    }
-}
-
-/// A stored job's kind (a job stored before specs is a design).
-pub fn kind_of(row: &JobRow) -> JobKind {
-    (row.spec.as_deref())
-        .and_then(JobSpec::stored_kind)
-        .unwrap_or(JobKind::Design)
-}
-
-/// The job resource.
-#[derive(Debug, Serialize)]
-pub struct JobView {
-    pub id: String,
-    pub kind: JobKind,
-    pub status: JobStatus,
-    pub created_at: String,
-    pub updated_at: String,
-    pub progress: Value,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub error: Option<String>,
-    pub links: Value,
-}
-
-impl JobView {
-    pub fn new(row: &JobRow) -> JobView {
-        let base = format!("/v1/jobs/{}", row.id);
-        let kind = kind_of(row);
-        let files: serde_json::Map<String, Value> = files_of(kind)
-            .iter()
-            .map(|name| (name.to_string(), json!(format!("{base}/files/{name}"))))
-            .collect();
-        JobView {
-            id: row.id.clone(),
-            kind,
-            status: row.status,
-            created_at: row.created_at.clone(),
-            updated_at: row.updated_at.clone(),
-            progress: row
-                .progress
-                .as_deref()
-                .and_then(|p| serde_json::from_str(p).ok())
-                .unwrap_or(Value::Null),
-            error: row.error.clone(),
-            links: json!({
-                "self": base,
-                "events": format!("{base}/events"),
-                "iterations": format!("{base}/iterations"),
-                "result": format!("{base}/result"),
-                "cancel": format!("{base}/cancel"),
-                "files": files,
-            }),
-        }
-    }
-}
-
-fn accepted(row: &JobRow) -> Response {
-    let location = format!("/v1/jobs/{}", row.id);
-    let mut response = (StatusCode::ACCEPTED, axum::Json(JobView::new(row))).into_response();
-    if let Ok(value) = HeaderValue::from_str(&location) {
-        response.headers_mut().insert(header::LOCATION, value);
-    }
-    response
-}
+use super::submit::submit;
 
 pub async fn create(
     State(state): State<AppState>,
@@ -116,118 +35,6 @@ pub async fn create(
     ));
     let stored = serde_json::to_string(&request).map_err(Problem::internal)?;
     submit(&state, &owner, &headers, &stored, &spec).await
-}
-
-/// Queues a job of any kind: `request` as the client sent it (an
-/// idempotent replay compares it), `spec` as the worker runs it. Answers
-/// 202 with the job, or the earlier job of the same `Idempotency-Key`.
-pub async fn submit(
-    state: &AppState,
-    owner: &Owner,
-    headers: &HeaderMap,
-    stored: &str,
-    spec: &JobSpec,
-) -> Result<Response, Problem> {
-    if state
-        .shutting_down
-        .load(std::sync::atomic::Ordering::Relaxed)
-    {
-        let mut p = Problem::new(
-            StatusCode::SERVICE_UNAVAILABLE,
-            "the server is shutting down",
-        );
-        p.retry_after_s = Some(5);
-        return Err(p);
-    }
-    let key = idempotency_key(headers)?;
-    let spec = spec.to_stored();
-    if let Some(key) = &key
-        && let Some(existing) = state
-            .store
-            .job_by_idempotency_key(owner.stored(), key)
-            .await?
-    {
-        return replay(&existing, stored);
-    }
-    room_in_queue(state).await?;
-    let id = uuid::Uuid::now_v7().to_string();
-    let queued = json!({"stage": "queued"}).to_string();
-    let inserted = state
-        .store
-        .insert_job(
-            &id,
-            owner.stored(),
-            stored,
-            &spec,
-            key.as_deref(),
-            (EventKind::Stage, &queued),
-        )
-        .await?;
-    let row = match inserted {
-        Some((row, event)) => {
-            state.hub.publish(&row.id, event);
-            row
-        }
-        // A concurrent request with the same key won the race.
-        None => {
-            let existing = state
-                .store
-                .job_by_idempotency_key(owner.stored(), key.as_deref().unwrap_or_default())
-                .await?
-                .ok_or_else(|| Problem::internal("insert conflict without an existing job"))?;
-            return replay(&existing, stored);
-        }
-    };
-    tracing::info!(job = %row.id, "job queued");
-    state.wake.notify_one();
-    Ok(accepted(&row))
-}
-
-/// The `Idempotency-Key` header, if given: 1–255 visible ASCII characters.
-fn idempotency_key(headers: &HeaderMap) -> Result<Option<String>, Problem> {
-    let Some(value) = headers.get("Idempotency-Key") else {
-        return Ok(None);
-    };
-    let key = value
-        .to_str()
-        .ok()
-        .filter(|k| !k.is_empty() && k.len() <= 255)
-        .ok_or_else(|| {
-            Problem::new(
-                StatusCode::BAD_REQUEST,
-                "must be 1–255 visible ASCII characters",
-            )
-            .field("Idempotency-Key")
-        })?;
-    Ok(Some(key.to_string()))
-}
-
-/// A 503 with `Retry-After` when the queue holds `queue_capacity` jobs.
-async fn room_in_queue(state: &AppState) -> Result<(), Problem> {
-    let capacity = state.config.queue_capacity;
-    if state.store.queued_count().await? < capacity as i64 {
-        return Ok(());
-    }
-    let mut p = Problem::new(
-        StatusCode::SERVICE_UNAVAILABLE,
-        format!("the queue is full ({capacity} jobs waiting)"),
-    );
-    p.retry_after_s = Some(30);
-    Err(p)
-}
-
-/// Same key, same body: the same job. Same key, another body: a conflict
-/// with the earlier request (the body itself may be valid).
-fn replay(existing: &JobRow, stored: &str) -> Result<Response, Problem> {
-    if existing.request == stored {
-        Ok(accepted(existing))
-    } else {
-        Err(Problem::new(
-            StatusCode::CONFLICT,
-            "this Idempotency-Key was used for a different request",
-        )
-        .field("Idempotency-Key"))
-    }
 }
 
 #[derive(Debug, Deserialize)]

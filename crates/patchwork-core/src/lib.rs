@@ -21,5 +21,6 @@ pub mod least_squares;
 pub mod material;
 pub mod measure;
 mod parallel;
+pub mod spread;
 
 pub use curve::{Curve, CurveError, Point};

@@ -1,0 +1,69 @@
+//! What a spread answers: the centreline's spread, the tip's band, the
+//! expected shape error against the target, and every source's share,
+//! largest first.
+
+use serde::{Deserialize, Serialize};
+
+use super::sources::Source;
+
+/// One source's share of the spread.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Contributor {
+    #[serde(flatten)]
+    pub source: Source,
+    /// "P3 angle".
+    pub label: String,
+    /// Its tolerance, in `unit`.
+    pub tolerance: f64,
+    pub unit: String,
+    /// The centreline's RMS change at the tolerance (mm, after the best
+    /// rigid alignment).
+    pub rms_mm: f64,
+    /// How far the tip moves at the tolerance, in the clamp's frame (mm).
+    pub tip_mm: f64,
+}
+
+/// The linear spread of a design's centreline.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Spread {
+    /// RMS of the centreline's change from the nominal, all sources
+    /// together (in quadrature), mm and % of the length.
+    pub rms_mm: f64,
+    pub rms_percent: f64,
+    /// Every source at its tolerance the worst way (their changes added in
+    /// magnitude: an upper bound), mm.
+    pub worst_mm: f64,
+    /// The tip's RMS distance from its nominal place (clamp's frame), mm;
+    /// and its worst case (added in magnitude).
+    pub tip_rms_mm: f64,
+    pub tip_worst_mm: f64,
+    /// The nominal and the expected shape error against the target (RMS
+    /// over the spread: √(nominal² + spread²)), % of the target's length;
+    /// absent without a target.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nominal_shape_error_percent: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub expected_shape_error_percent: Option<f64>,
+    /// Every source, the largest share first.
+    pub contributors: Vec<Contributor>,
+    /// FE solves taken (the nominal one included).
+    pub solves: usize,
+}
+
+impl Spread {
+    /// The `n` largest contributors as a person reads them: "P3 angle ±2°:
+    /// 1.20 mm RMS, tip 2.10 mm".
+    pub fn largest(&self, n: usize) -> Vec<String> {
+        self.contributors
+            .iter()
+            .take(n)
+            .map(|c| {
+                let gap = if c.unit == "°" { "" } else { " " };
+                format!(
+                    "{} ±{}{gap}{}: {:.2} mm RMS, tip {:.2} mm",
+                    c.label, c.tolerance, c.unit, c.rms_mm, c.tip_mm
+                )
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,25 @@
+//! How sure a design is: the spread of its inflated centreline under the
+//! fabrication and operating tolerances a lab works to — each patch's
+//! placement (X, Y), angle (Θ) and size (H, W), the pressure, the wall's
+//! thickness and the material's modulus.
+//!
+//! The linear estimate ([`linear_spread`]): one FE solve per source, each
+//! at its tolerance, warm-started from the nominal state; the centreline's
+//! change from the nominal (after the best rigid alignment, as the shape
+//! error is measured) and the tip's move in the clamp's frame. Tolerances
+//! are read as one standard deviation of independent errors, so the
+//! spreads add in quadrature; the worst case adds them in magnitude (an
+//! upper bound of every source at its tolerance the worst way).
+
+mod answer;
+mod linear;
+mod sources;
+mod tolerances;
+
+pub use answer::{Contributor, Spread};
+pub use linear::{SpreadError, linear_spread};
+pub use sources::{PatchQuantity, Source};
+pub use tolerances::Tolerances;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,95 @@
+//! The linear spread on a short balloon of three patches: one long, wide
+//! patch near the base (whose bend turns everything after it) made the
+//! critical one, two small ones near the tip.
+
+use super::*;
+use crate::design::{Balloon, Design, Patch};
+use crate::fe::{SimulateOptions, mesh::MeshSpec};
+
+fn design() -> Design {
+    let patch = |y_mm, h_mm, w_mm| Patch {
+        x_mm: 0.0,
+        y_mm,
+        h_mm,
+        w_mm,
+        theta_deg: 0.0,
+    };
+    let mut d = Design::reference(vec![
+        patch(30.0, 30.0, 3.0),
+        patch(85.0, 6.0, 1.0),
+        patch(105.0, 6.0, 1.0),
+    ]);
+    d.balloon = Balloon {
+        length_mm: 120.0,
+        ..Balloon::default()
+    };
+    d
+}
+
+fn options() -> SimulateOptions {
+    SimulateOptions {
+        mesh: MeshSpec::default_simulation(),
+        ..SimulateOptions::default()
+    }
+}
+
+fn patches_only() -> Tolerances {
+    Tolerances {
+        pressure_kpa: 0.0,
+        wall_percent: 0.0,
+        modulus_percent: 0.0,
+        ..Tolerances::default()
+    }
+}
+
+#[test]
+fn the_critical_patch_is_ranked_first_and_the_sums_hold() {
+    let spread = linear_spread(&design(), None, &patches_only(), &options(), 4).unwrap();
+    assert_eq!(spread.contributors.len(), 15);
+    assert_eq!(spread.solves, 16);
+    let first = &spread.contributors[0];
+    assert!(
+        matches!(first.source, Source::Patch { patch: 1, .. }),
+        "{:?}",
+        spread.largest(5)
+    );
+    // Sorted, and adding up as stated.
+    let shares: Vec<f64> = spread.contributors.iter().map(|c| c.rms_mm).collect();
+    assert!(shares.windows(2).all(|w| w[0] >= w[1]), "{shares:?}");
+    let quadrature = shares.iter().map(|s| s * s).sum::<f64>().sqrt();
+    assert!((spread.rms_mm - quadrature).abs() < 1e-12);
+    assert!(spread.worst_mm >= spread.rms_mm);
+    assert!(spread.tip_worst_mm >= spread.tip_rms_mm && spread.tip_rms_mm > 0.0);
+    assert!(
+        spread.largest(3)[0].starts_with("P1 "),
+        "{:?}",
+        spread.largest(3)
+    );
+    assert!(spread.expected_shape_error_percent.is_none());
+}
+
+#[test]
+fn no_tolerance_no_spread_and_a_bad_one_is_named() {
+    let none = Tolerances {
+        placement_mm: 0.0,
+        angle_deg: 0.0,
+        size_mm: 0.0,
+        pressure_kpa: 0.0,
+        wall_percent: 0.0,
+        modulus_percent: 0.0,
+    };
+    let d = design();
+    let target = crate::fe::simulate(&d, &options()).unwrap().centreline;
+    let spread = linear_spread(&d, Some(&target), &none, &options(), 1).unwrap();
+    assert!(spread.contributors.is_empty());
+    assert_eq!((spread.rms_mm, spread.solves), (0.0, 1));
+    // Against its own prediction: no shape error, expected or nominal.
+    assert!(spread.nominal_shape_error_percent.unwrap() < 1e-9);
+    assert!(spread.expected_shape_error_percent.unwrap() < 1e-9);
+    let bad = Tolerances {
+        angle_deg: -1.0,
+        ..Tolerances::default()
+    };
+    let error = linear_spread(&d, None, &bad, &options(), 1).unwrap_err();
+    assert!(error.to_string().contains("angle_deg"), "{error}");
+}

@@ -1,0 +1,73 @@
+//! `patchwork spread` end to end: a short three-patch balloon whose long
+//! base patch turns everything after it is named as what matters most; the
+//! JSON adds up; bad tolerances are refused in one line.
+
+mod common;
+use common::cli::{assert_one_line_error, json, patchwork_with_stdin};
+
+/// 120 mm of reference balloon: a long, wide patch near the base, two
+/// small ones near the tip.
+const DESIGN: &str = r#"{"balloon": {"length_mm": 120}, "patches": [
+    {"x_mm": 0, "y_mm": 30, "h_mm": 30, "w_mm": 3, "theta_deg": 0},
+    {"x_mm": 0, "y_mm": 85, "h_mm": 6, "w_mm": 1, "theta_deg": 0},
+    {"x_mm": 0, "y_mm": 105, "h_mm": 6, "w_mm": 1, "theta_deg": 0}]}"#;
+
+const PATCHES_ONLY: &str = r#"{"pressure_kpa": 0, "wall_percent": 0, "modulus_percent": 0}"#;
+
+#[test]
+fn spread_names_what_matters_most_and_refuses_bad_tolerances() {
+    let text = patchwork_with_stdin(&["spread", "-", "--tolerances", PATCHES_ONLY], DESIGN);
+    let stdout = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.status.success(),
+        "{}",
+        String::from_utf8_lossy(&text.stderr)
+    );
+    assert!(stdout.contains("matters most: P1 "), "{stdout}");
+    assert!(stdout.contains("16 FE solves"), "{stdout}");
+    // With every source: the balloon's three join the patches' fifteen.
+    let all = json(&patchwork_with_stdin(
+        &["spread", "-", "--json", "--top", "5"],
+        DESIGN,
+    ));
+    let contributors = all["contributors"].as_array().unwrap();
+    assert_eq!(contributors.len(), 18);
+    let squares: f64 = contributors
+        .iter()
+        .map(|c| c["rms_mm"].as_f64().unwrap().powi(2))
+        .sum();
+    assert!((all["rms_mm"].as_f64().unwrap() - squares.sqrt()).abs() < 1e-9);
+    assert!(contributors.iter().any(|c| c["source"] == "pressure"));
+    assert!(
+        all.get("expected_shape_error_percent").is_none(),
+        "no target: {all}"
+    );
+
+    // Against a design.json's target: the expected error is the nominal's
+    // and the spread's in quadrature.
+    let target: Vec<[f64; 3]> = (0..30).map(|i| [0.0, 0.0, 5.0 * i as f64]).collect();
+    let report = serde_json::json!({
+        "design": serde_json::from_str::<serde_json::Value>(DESIGN).unwrap(),
+        "target_mm": target,
+    });
+    let against = json(&patchwork_with_stdin(
+        &["spread", "-", "--json", "--tolerances", PATCHES_ONLY],
+        &report.to_string(),
+    ));
+    let (nominal, expected, spread) = (
+        against["nominal_shape_error_percent"].as_f64().unwrap(),
+        against["expected_shape_error_percent"].as_f64().unwrap(),
+        against["rms_percent"].as_f64().unwrap(),
+    );
+    assert!(
+        nominal > 0.0 && (expected - nominal.hypot(spread)).abs() < 1e-9,
+        "{against}"
+    );
+
+    let negative = r#"{"angle_deg": -1}"#;
+    let refused = patchwork_with_stdin(&["spread", "-", "--tolerances", negative], DESIGN);
+    assert_one_line_error(&refused, "angle_deg");
+    let unknown = r#"{"angle": 1}"#;
+    let refused = patchwork_with_stdin(&["spread", "-", "--tolerances", unknown], DESIGN);
+    assert_one_line_error(&refused, "angle");
+}
