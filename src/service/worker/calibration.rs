@@ -9,14 +9,14 @@ use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 use patchwork_core::calibrate::{
-    Calibration, CalibrationError, CalibrationProgress, calibrate_watched,
+    Calibration, CalibrationError, CalibrationProgress, Parameter, calibrate_watched,
 };
 use patchwork_core::design::{Balloon, PatchSpec};
 use patchwork_core::fabrication::OutputFile;
 use serde_json::{Value, json};
 use tokio::sync::mpsc;
 
-use super::ending::{Ran, fail, finite, unless_done, until_stored};
+use super::ending::{Ran, fail, finish, finite, unless_done, until_stored};
 use super::holding::Holding;
 use crate::service::job_state::EventKind;
 use crate::service::profile::Profile;
@@ -101,9 +101,7 @@ pub(super) async fn run(state: &AppState, claim: Claim, spec: CalibrateSpec) {
 
 /// The progress as the job and its `progress` event show it.
 fn progress_json(p: &CalibrationProgress) -> Value {
-    let values: serde_json::Map<String, Value> = (p.values.iter())
-        .map(|(parameter, value)| (parameter.name().to_string(), json!(finite(*value))))
-        .collect();
+    let values = by_name(p.values.iter().copied());
     json!({
         "stage": "calibrate",
         "iteration": p.iteration,
@@ -165,9 +163,7 @@ async fn succeed(state: &AppState, lease: &Lease, done: &CalibrationDone) {
         json_file("options.json", &options),
     ];
     let c = &done.calibration;
-    let parameters: serde_json::Map<String, Value> = (c.parameters.iter())
-        .map(|f| (f.parameter.name().to_string(), json!(finite(f.value))))
-        .collect();
+    let parameters = by_name(c.parameters.iter().map(|f| (f.parameter, f.value)));
     let mut event = json!({
         "result": format!("/v1/jobs/{}/result", lease.id),
         "rms_percent": finite(c.rms_percent),
@@ -178,18 +174,16 @@ async fn succeed(state: &AppState, lease: &Lease, done: &CalibrationDone) {
     if let Some(name) = &done.save_as {
         event["profile"] = json!(format!("/v1/balloons/{name}"));
     }
-    let event = event.to_string();
-    let stored = until_stored(state, "storing the result", || {
-        (state.store).finish(lease, &result, &files, &event)
-    });
-    match stored.await {
-        Ok(Some(event)) => {
-            state.hub.publish(&lease.id, event);
-            tracing::info!(rms_percent = c.rms_percent, solves = c.solves, "succeeded");
-        }
-        Ok(None) => tracing::info!("finished after it was cancelled or taken over; result dropped"),
-        Err(e) => tracing::error!("storing the result: {e}"),
+    if finish(state, lease, &result, &files, &event.to_string()).await {
+        tracing::info!(rms_percent = c.rms_percent, solves = c.solves, "succeeded");
     }
+}
+
+/// Parameter values as a JSON object by name (NaN as null).
+fn by_name(values: impl Iterator<Item = (Parameter, f64)>) -> serde_json::Map<String, Value> {
+    values
+        .map(|(p, v)| (p.name().to_string(), json!(finite(v))))
+        .collect()
 }
 
 fn json_file(name: &'static str, text: &str) -> OutputFile {

@@ -9,7 +9,7 @@ use std::future::Future;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
-use patchwork_core::fabrication::{design_files, design_json};
+use patchwork_core::fabrication::{OutputFile, design_files, design_json};
 use patchwork_core::inverse::{DesignOutcome, DesignReport, DesignRunError};
 use serde_json::json;
 
@@ -92,20 +92,42 @@ pub(super) async fn succeed(state: &AppState, lease: &Lease, report: &DesignRepo
         "elapsed_s": report.elapsed_s,
     })
     .to_string();
+    if finish(state, lease, &result, &files, &done).await {
+        tracing::info!(
+            evaluations = report.evaluations,
+            shape_error_percent = m.shape_error_percent,
+            "succeeded"
+        );
+    }
+}
+
+/// Stores a finished run's result, files and `done` event (retried while
+/// the database does not answer) and publishes the event; `true` when it
+/// was stored, `false` when the job had ended or was taken over meanwhile
+/// (or the store refused: logged).
+pub(super) async fn finish(
+    state: &AppState,
+    lease: &Lease,
+    result: &str,
+    files: &[OutputFile],
+    done: &str,
+) -> bool {
     let stored = until_stored(state, "storing the result", || {
-        state.store.finish(lease, &result, &files, &done)
+        state.store.finish(lease, result, files, done)
     });
     match stored.await {
         Ok(Some(event)) => {
             state.hub.publish(&lease.id, event);
-            tracing::info!(
-                evaluations = report.evaluations,
-                shape_error_percent = m.shape_error_percent,
-                "succeeded"
-            );
+            true
         }
-        Ok(None) => tracing::info!("finished after it was cancelled or taken over; result dropped"),
-        Err(e) => tracing::error!("storing the result: {e}"),
+        Ok(None) => {
+            tracing::info!("finished after it was cancelled or taken over; result dropped");
+            false
+        }
+        Err(e) => {
+            tracing::error!("storing the result: {e}");
+            false
+        }
     }
 }
 
