@@ -146,7 +146,7 @@ fn a_built_balloon_calibrates_the_patch_and_redesign_designs_on_it() {
         "--fidelity",
         "draft",
         "--budget",
-        "40",
+        "10",
     ]);
     assert!(summary.status.success(), "{summary:?}");
     let text = String::from_utf8_lossy(&summary.stdout);

@@ -26,7 +26,7 @@ pub async fn calibrate_to_the_compared_balloon(page: &Session) {
         t.starts_with("Calibration")
     })
     .await;
-    let patience = Duration::from_secs(180);
+    let patience = Duration::from_secs(300);
     let facts = page
         .wait_text_for("#job-facts", "the calibration's answer", patience, |t| {
             t.contains("misfit") && t.contains("built balloon 1")
@@ -92,7 +92,7 @@ async fn the_calibrate_form_fits_a_bare_balloon_and_names_a_refused_line() {
     .await;
     page.type_into("#calibrate-save", "bare-1").await;
     page.click("#calibrate-submit").await;
-    let patience = Duration::from_secs(120);
+    let patience = Duration::from_secs(300);
     let facts = page
         .wait_text_for("#job-facts", "the calibration's answer", patience, |t| {
             t.contains("misfit") && t.contains("diameter_mm at 22 kPa")

@@ -61,7 +61,7 @@ async fn a_calibration_saves_a_profile_that_a_design_job_is_made_of() {
     assert_eq!(job["kind"], "calibrate");
     let id = job["id"].as_str().unwrap().to_string();
     let done = api
-        .wait_for(&id, &["succeeded", "failed"], Duration::from_secs(180))
+        .wait_for(&id, &["succeeded", "failed"], Duration::from_secs(300))
         .await;
     assert_eq!(done["status"], "succeeded", "{done}");
     assert_schema("Job", &done);
@@ -114,7 +114,7 @@ async fn a_calibration_saves_a_profile_that_a_design_job_is_made_of() {
         .wait_for(
             &design_id,
             &["succeeded", "failed"],
-            Duration::from_secs(120),
+            Duration::from_secs(300),
         )
         .await;
     assert_eq!(design["status"], "succeeded", "{design}");

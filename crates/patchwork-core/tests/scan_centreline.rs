@@ -42,7 +42,7 @@ fn scan_of(sim: &Simulation, n: usize, seed: u64) -> (Vec<Point>, f64) {
         cumulative.push(total);
     }
     let mut rng = SeededRng::new(seed);
-    let mut sample = |rng: &mut SeededRng| {
+    let sample = |rng: &mut SeededRng| {
         let u = rng.uniform() * total;
         let k = cumulative.partition_point(|&c| c < u);
         let t = triangles[k.min(triangles.len() - 1)];

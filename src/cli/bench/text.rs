@@ -134,7 +134,7 @@ pub fn known_limits(curves: &[Row]) -> String {
          - **Very long curves are slow**: a 1.3 m helix (a 360 mm balloon) \
          takes about 4 minutes with `draft`, KSA's layout and no refine \
          (`cargo test --release -p patchwork-core --test stress -- \
-         --nocapture`).\n\
+         --ignored --nocapture`, on request).\n\
          - **Coarse meshes are for searching only**: the uniform 2 mm mesh is \
          several per cent off theory (table above); every preset verifies on \
          0.5 mm elements.\n"
