@@ -476,8 +476,28 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
         report["metrics"]["objective"].as_f64().unwrap()
             < report["seed_objective"].as_f64().unwrap()
     );
-    // The search's budget plus the standard preset's 90-solve refine.
-    assert!(report["evaluations"].as_u64().unwrap() <= 30 + 90);
+    // Every design reports its spread at the default tolerances: five
+    // sources per patch and three for the balloon, a solve each, largest
+    // first, against the target.
+    let spread = &report["spread"];
+    let patches = report["design"]["patches"].as_array().unwrap().len();
+    let contributors = spread["contributors"].as_array().unwrap();
+    assert_eq!(contributors.len(), 5 * patches + 3, "{spread}");
+    let shares: Vec<f64> = contributors
+        .iter()
+        .map(|c| c["rms_mm"].as_f64().unwrap())
+        .collect();
+    assert!(shares.windows(2).all(|w| w[0] >= w[1]), "{shares:?}");
+    assert!(spread["rms_mm"].as_f64().unwrap() > 0.0);
+    assert!(
+        spread["expected_shape_error_percent"].as_f64().unwrap()
+            >= spread["nominal_shape_error_percent"].as_f64().unwrap()
+    );
+    // The search's budget, the standard preset's 90-solve refine, and the
+    // spread's solves (one more: the design on the verification model).
+    let spread_solves = spread["solves"].as_u64().unwrap();
+    assert_eq!(spread_solves, contributors.len() as u64);
+    assert!(report["evaluations"].as_u64().unwrap() <= 30 + 90 + spread_solves + 1);
     let files = dir.join("design");
     for name in [
         "design.json",
@@ -495,6 +515,10 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
     assert!(csv.starts_with("patch,x_mm,y_mm,h_mm,w_mm,theta_deg\nP1,"));
     let svg = std::fs::read_to_string(files.join("template.svg")).unwrap();
     assert!(svg.contains(r#"viewBox="0 0"#) && svg.contains("<polygon"));
+    // The template marks the patches among the spread's three largest
+    // sources, to be placed with most care.
+    let careful = contributors.iter().take(3).any(|c| c["source"] == "patch");
+    assert_eq!(svg.contains("place with most care"), careful, "{svg}");
     // The design.json written is a design `simulate` takes; on its default
     // mesh (0.5 mm at patches, where this run verified on 0.5 mm
     // throughout) it inflates to the predicted length within 1 %.
@@ -536,6 +560,22 @@ fn design_rejects_bad_options_in_one_line() {
         &patchwork(&["design", hilbert, "--out", "/tmp/x", "--fidelity", "ultra"]),
         "--fidelity",
     );
+    for (tolerances, needle) in [
+        (r#"{"angle_deg": -1}"#, "--tolerances: angle_deg"),
+        (r#"{"angle": 1}"#, "--tolerances: unknown field `angle`"),
+    ] {
+        assert_one_line_error(
+            &patchwork(&[
+                "design",
+                hilbert,
+                "--out",
+                "/tmp/x",
+                "--tolerances",
+                tolerances,
+            ]),
+            needle,
+        );
+    }
     assert_one_line_error(&patchwork(&["bench", "--quick", "--runs", "0"]), "--runs");
     // An impossible bound names its field; an unknown one the option.
     for (bounds, needle) in [

@@ -64,6 +64,35 @@ fn spread_names_what_matters_most_and_refuses_bad_tolerances() {
         "{against}"
     );
 
+    // The Monte-Carlo check on request: every source drawn at once, the
+    // samples solved, the verdict printed.
+    let wall = r#"{"placement_mm": 0, "angle_deg": 0, "size_mm": 0, "pressure_kpa": 0, "modulus_percent": 0}"#;
+    let checked = patchwork_with_stdin(
+        &[
+            "spread",
+            "-",
+            "--tolerances",
+            wall,
+            "--monte-carlo",
+            "12",
+            "--seed",
+            "3",
+        ],
+        DESIGN,
+    );
+    let stdout = String::from_utf8_lossy(&checked.stdout);
+    assert!(checked.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("Monte-Carlo:  12 samples (seed 3): "),
+        "{stdout}"
+    );
+    assert!(stdout.contains("× the linear estimate"), "{stdout}");
+    assert!(stdout.contains("14 FE solves"), "{stdout}");
+    assert_one_line_error(
+        &patchwork_with_stdin(&["spread", "-", "--monte-carlo", "1"], DESIGN),
+        "--monte-carlo",
+    );
+
     let negative = r#"{"angle_deg": -1}"#;
     let refused = patchwork_with_stdin(&["spread", "-", "--tolerances", negative], DESIGN);
     assert_one_line_error(&refused, "angle_deg");

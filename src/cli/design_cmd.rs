@@ -67,6 +67,12 @@ pub struct DesignFlags {
     /// Expert tuning over the preset as JSON (file, `-` or inline); fields in docs/tuning.md.
     #[arg(long, value_name = "JSON")]
     tuning: Option<String>,
+    /// Tolerances the design's spread is reported at, as JSON (inline or a
+    /// file), each one standard deviation; fields left out keep their
+    /// defaults: {"placement_mm": 1, "angle_deg": 2, "size_mm": 0.2,
+    /// "pressure_kpa": 0.5, "wall_percent": 5, "modulus_percent": 3}.
+    #[arg(long, value_name = "JSON")]
+    tolerances: Option<String>,
 }
 
 /// Writes the checkpoint to a temporary file and renames it over the old one,
@@ -116,6 +122,10 @@ impl DesignFlags {
             fix_length: self.fix_length,
             smoothing,
             threads: self.threads,
+            tolerances: match &self.tolerances {
+                Some(argument) => json_argument("tolerances", argument)?,
+                None => Default::default(),
+            },
         };
         let overrides: TuningOverrides = match &self.tuning {
             Some(argument) => json_argument("tuning", argument)?,
@@ -135,6 +145,9 @@ fn flag_error(error: SettingsError) -> anyhow::Error {
             return anyhow::anyhow!("--tuning: {}: {reason}", &f["tuning.".len()..]);
         }
         f if f.starts_with("bounds.") => return anyhow::anyhow!("--bounds: {reason}"),
+        f if f.starts_with("tolerances.") => {
+            return anyhow::anyhow!("--tolerances: {}: {reason}", &f["tolerances.".len()..]);
+        }
         f if f.starts_with("design.") => return anyhow::anyhow!("--options: {f}: {reason}"),
         _ => return anyhow::anyhow!("{field}: {reason}"),
     };

@@ -1,6 +1,6 @@
 //! The summary `patchwork design` prints: lengths, errors, what was done
-//! to the target and where it is out of reach, the stages, limits hit and
-//! the patches.
+//! to the target and where it is out of reach, the spread at the
+//! tolerances, the stages, limits hit and the patches.
 
 use patchwork_core::fe::contact::SelfContact;
 use patchwork_core::inverse::layout::LayoutTrial;
@@ -9,6 +9,7 @@ use patchwork_core::inverse::shortfall::HIGH_ERROR_PERCENT;
 use patchwork_core::inverse::{DesignReport, InputReport, RefineSummary};
 
 use super::output::patch_table;
+use super::spread_summary::summary as summary_of_spread;
 
 pub fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
     let m = &r.metrics;
@@ -36,6 +37,7 @@ pub fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
     s.push_str(&shortfall_line(r));
     s.push_str(&reach_lines(r.reach.as_ref()));
     s.push_str(&contact_lines(r));
+    s.push_str(&spread_lines(r));
     s.push_str(&refine_line("refine:      ", r.refine.as_ref()));
     s.push_str(&layout_lines(&r.layouts));
     s.push_str(&refine_line("final refine:", r.final_refine.as_ref()));
@@ -139,6 +141,16 @@ fn shortfall_line(r: &DesignReport) -> String {
         "short:        shape error above {HIGH_ERROR_PERCENT} %: {}\n",
         causes.join("; ")
     )
+}
+
+/// The spread at the run's tolerances and its three largest sources, or why
+/// there is none.
+fn spread_lines(r: &DesignReport) -> String {
+    match (&r.spread, &r.spread_failed) {
+        (Some(spread), _) => summary_of_spread(spread, 3),
+        (None, Some(why)) => format!("spread:       not found: {why}\n"),
+        (None, None) => String::new(),
+    }
 }
 
 /// Where the predicted tube passes through itself, a line each.

@@ -14,6 +14,7 @@ mod preset_cmd;
 mod redesign_cmd;
 mod simulate_cmd;
 mod spread_cmd;
+mod spread_summary;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};

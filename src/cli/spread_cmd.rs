@@ -8,11 +8,12 @@ use clap::Args;
 use patchwork_core::curve::{Curve, Point};
 use patchwork_core::fe::SimulateOptions;
 use patchwork_core::fe::mesh::MeshSpec;
-use patchwork_core::spread::{Spread, Tolerances, linear_spread};
+use patchwork_core::spread::{Check, Tolerances, linear_spread};
 
 use super::input::{json_argument, read_text_argument};
 use super::output::{emit, emit_json};
 use super::simulate_cmd::design_of;
+use super::spread_summary::summary;
 
 #[derive(Args)]
 pub struct SpreadArgs {
@@ -31,6 +32,14 @@ pub struct SpreadArgs {
     /// Threads for the solves [default: every core].
     #[arg(long)]
     threads: Option<usize>,
+    /// Check the linear estimate with this many samples, every source drawn
+    /// at once and solved in full (in parallel): the sampled RMS against
+    /// the linear one, and whether they agree within 20 %.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(2..=10000))]
+    monte_carlo: Option<u64>,
+    /// The Monte-Carlo samples' random seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
     /// Print the spread as JSON.
     #[arg(long)]
     json: bool,
@@ -42,7 +51,7 @@ pub fn run(args: SpreadArgs) -> Result<()> {
         design_of(&text).with_context(|| format!("{}: invalid design JSON", args.design))?;
     let target = target_of(&text).with_context(|| format!("{}: target_mm", args.design))?;
     let tolerances: Tolerances = match &args.tolerances {
-        Some(text) => json_argument("--tolerances", text)?,
+        Some(text) => json_argument("tolerances", text)?,
         None => Tolerances::default(),
     };
     tolerances
@@ -55,7 +64,19 @@ pub fn run(args: SpreadArgs) -> Result<()> {
     let threads = args
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let spread = linear_spread(&design, target.as_ref(), &tolerances, &options, threads)?;
+    let check = args.monte_carlo.map(|samples| Check {
+        // At most 10000 (the parser's range).
+        samples: samples as usize,
+        seed: args.seed,
+    });
+    let spread = linear_spread(
+        &design,
+        target.as_ref(),
+        &tolerances,
+        &options,
+        threads,
+        check,
+    )?;
     match args.json {
         true => emit_json(&spread),
         false => emit(&summary(&spread, args.top)),
@@ -74,30 +95,4 @@ fn target_of(text: &str) -> Result<Option<Curve>> {
         .map(|p| Point::new(p[0], p[1], p[2]))
         .collect();
     Ok(Some(Curve::from_points(points)?))
-}
-
-/// The spread as a person reads it.
-pub fn summary(s: &Spread, top: usize) -> String {
-    let mut text = format!(
-        "spread:       {:.2} mm RMS ({:.2} % of the length), at worst {:.2} mm; {} FE solves\n\
-         tip:          {:.2} mm RMS from its predicted place, at worst {:.2} mm\n",
-        s.rms_mm, s.rms_percent, s.worst_mm, s.solves, s.tip_rms_mm, s.tip_worst_mm
-    );
-    if let (Some(nominal), Some(expected)) = (
-        s.nominal_shape_error_percent,
-        s.expected_shape_error_percent,
-    ) {
-        text += &format!(
-            "shape error:  {nominal:.2} % as designed, {expected:.2} % expected as built\n"
-        );
-    }
-    for (i, line) in s.largest(top).iter().enumerate() {
-        let head = if i == 0 {
-            "matters most: "
-        } else {
-            "              "
-        };
-        text += &format!("{head}{line}\n");
-    }
-    text
 }

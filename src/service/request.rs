@@ -10,6 +10,7 @@ use patchwork_core::inverse::input::check_smoothing;
 use patchwork_core::inverse::{
     Fidelity, Freedom, SettingsError, Smoothing, TuningOverrides, UserSettings, VariableBounds,
 };
+use patchwork_core::spread::Tolerances;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -77,6 +78,10 @@ pub struct JobRequest {
     /// Expert tuning laid over the fidelity's preset (docs/tuning.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tuning: Option<TuningOverrides>,
+    /// The tolerances the design's spread is reported at (fields left out:
+    /// the defaults).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerances: Option<Tolerances>,
     /// A balloon profile of this key (`/v1/balloons`): its balloon and
     /// patch replace the design's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -143,6 +148,7 @@ impl JobRequest {
                 .map_or(Smoothing::Auto, Smoothing::Sigma),
             // One job per worker, one worker per core.
             threads: 1,
+            tolerances: self.tolerances.unwrap_or_default(),
         };
         check_smoothing(&target, settings.smoothing)
             .map_err(|e| SettingsError::new("options.smooth_mm", e.to_string()))?;

@@ -22,6 +22,7 @@ use patchwork_core::inverse::{
     Fidelity, Freedom, Plan, SettingsError, Smoothing, TuningOverrides, UserSettings,
     VariableBounds,
 };
+use patchwork_core::spread::Tolerances;
 use serde::{Deserialize, Serialize};
 
 /// The stored form's version; a reader refuses any other.
@@ -90,8 +91,8 @@ impl JobSpec {
     /// The stored form (JSON): `{"version": 1, "kind": "design", …}`.
     pub fn to_stored(&self) -> String {
         let job = match self {
-            JobSpec::Design(design) => StoredJob::Design(design.stored()),
-            JobSpec::Calibrate(calibrate) => StoredJob::Calibrate(calibrate.as_ref().clone()),
+            JobSpec::Design(design) => StoredJob::Design(Box::new(design.stored())),
+            JobSpec::Calibrate(calibrate) => StoredJob::Calibrate(calibrate.clone()),
         };
         let stored = Stored {
             version: SPEC_VERSION,
@@ -111,9 +112,9 @@ impl JobSpec {
         let stored: Stored = serde_json::from_str(text)?;
         match stored.job {
             StoredJob::Design(design) => {
-                DesignSpec::from_stored(design).map(|d| JobSpec::Design(Box::new(d)))
+                DesignSpec::from_stored(*design).map(|d| JobSpec::Design(Box::new(d)))
             }
-            StoredJob::Calibrate(calibrate) => Ok(JobSpec::Calibrate(Box::new(calibrate))),
+            StoredJob::Calibrate(calibrate) => Ok(JobSpec::Calibrate(calibrate)),
         }
     }
 }
@@ -161,6 +162,7 @@ impl DesignSpec {
             smoothing: s.smoothing,
             threads: s.threads,
             tuning: self.overrides.clone(),
+            tolerances: s.tolerances,
         }
     }
 
@@ -181,6 +183,7 @@ impl DesignSpec {
             fix_length: stored.fix_length,
             smoothing: stored.smoothing,
             threads: stored.threads,
+            tolerances: stored.tolerances,
         };
         DesignSpec::new(target, settings, stored.tuning)
             .map_err(|e| SpecError::Invalid(e.to_string()))
@@ -205,8 +208,8 @@ struct Stored {
 #[derive(Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 enum StoredJob {
-    Design(StoredDesign),
-    Calibrate(CalibrateSpec),
+    Design(Box<StoredDesign>),
+    Calibrate(Box<CalibrateSpec>),
 }
 
 /// A design job as stored.
@@ -226,6 +229,9 @@ struct StoredDesign {
     smoothing: Smoothing,
     threads: usize,
     tuning: TuningOverrides,
+    /// The spread's tolerances (specs stored before them: the defaults).
+    #[serde(default)]
+    tolerances: Tolerances,
 }
 
 #[cfg(test)]

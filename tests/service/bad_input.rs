@@ -98,6 +98,14 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "options.budget",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "tolerances": {"angle_deg": -1}}),
+            "tolerances.angle_deg",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "tolerances": {"angle": 1}}),
+            "tolerances",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "options": {"budget": 10_000_000}}),
             "options.budget",
         ),

@@ -129,6 +129,28 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
         tried.as_u64().unwrap() >= 2,
         "{facts}"
     );
+    // Every design reports its spread at the tolerances and what matters
+    // most; the patches among the three largest sources are marked.
+    let spread = page.text("[data-fact='spread at the tolerances']").await;
+    assert!(
+        spread.contains("mm RMS") && spread.contains("expected shape error as built"),
+        "{spread}"
+    );
+    let most = page.text("[data-fact='matters most']").await;
+    assert!(most.contains("mm RMS, tip"), "{most}");
+    let marked = page
+        .execute(
+            "return [document.querySelectorAll('#patch-table tr.sensitive').length, \
+             (window.patchwork.result.spread.contributors.slice(0, 3)\
+               .filter((c) => c.source === 'patch').map((c) => c.patch)).length]",
+            json!([]),
+        )
+        .await;
+    let (rows, patch_sources) = (marked[0].as_u64().unwrap(), marked[1].as_u64().unwrap());
+    assert!(
+        rows >= 1.min(patch_sources) && rows <= patch_sources,
+        "{marked}"
+    );
     page.screenshot(&screenshots().join("result.png")).await;
     if docs {
         let image = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/images/web-app.png");

@@ -36,7 +36,7 @@ async fn a_job_runs_to_done_and_its_files_download() {
     assert_eq!(
         stages,
         [
-            "queued", "seed", "reach", "search", "verify", "length", "refine", "layout"
+            "queued", "seed", "reach", "search", "verify", "length", "refine", "layout", "spread"
         ]
     );
     // Ids are 1, 2, 3, … without gaps.
@@ -56,7 +56,7 @@ async fn a_job_runs_to_done_and_its_files_download() {
     let job = api.job(id).await;
     assert_schema("Job", &job);
     assert_eq!(job["status"], "succeeded");
-    assert_eq!(job["progress"]["stage"], "layout", "the last stage's");
+    assert_eq!(job["progress"]["stage"], "spread", "the last stage's");
 
     let result: Value = api
         .get(&format!("/v1/jobs/{id}/result"))
@@ -77,6 +77,10 @@ async fn a_job_runs_to_done_and_its_files_download() {
     let patches = result["design"]["patches"].as_array().unwrap();
     assert_eq!(patches.len(), 2, "{patches:?}");
     assert!(patches.iter().all(|p| p["h_mm"].as_f64().unwrap() <= 30.0));
+    // Its spread at the default tolerances: five sources a patch, three
+    // for the balloon.
+    let contributors = result["spread"]["contributors"].as_array().unwrap();
+    assert_eq!(contributors.len(), 5 * 2 + 3, "{}", result["spread"]);
     // A 40 mm arc is within reach of the default bounds, and clean.
     assert_eq!(result["reach"]["out_of_reach"], json!([]));
     assert_eq!(result["input"]["smoothing_mm"], 0.0);

@@ -145,7 +145,7 @@ async fn a_job_answers_its_request_and_budget() {
         "the fidelity's budget"
     );
     assert_eq!(
-        job["plan"], "seed → reach → search → verify → length → refine → layout",
+        job["plan"], "seed → reach → search → verify → length → refine → layout → spread",
         "draft's"
     );
     let listed: Value = api.get("/v1/jobs").await.json().await.unwrap();

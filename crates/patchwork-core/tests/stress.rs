@@ -184,6 +184,14 @@ impl Tally {
             .all(|p| p.iter().all(|v| v.is_finite()));
         assert!(finite, "{name}: NaN in the result");
         assert!(o.design.validate().is_ok(), "{name}: the design is invalid");
+        // The spread at the default tolerances: finite, or the reason why not.
+        match (&o.spread, &o.spread_failed) {
+            (Some(s), _) => assert!(
+                s.rms_mm.is_finite() && s.tip_rms_mm.is_finite(),
+                "{name}: spread {s:?}"
+            ),
+            (None, reason) => assert!(reason.is_some(), "{name}: no spread and no reason"),
+        }
         let error = o.metrics.shape_error_percent;
         assert!(
             error <= ceiling,

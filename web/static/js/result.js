@@ -47,6 +47,27 @@ function selfContact(result) {
   return [["passes through itself", `${text.join("; ")}: the real balloon pushes apart there`]];
 }
 
+// How far the built balloon may stray at the run's tolerances, and the
+// three sources that matter most (the server's words: "P3 X (around")).
+function spread(result) {
+  const s = result.spread;
+  if (!s) return result.spread_failed ? [["spread at the tolerances", `not found: ${result.spread_failed}`]] : [];
+  const expected = s.expected_shape_error_percent === undefined ? ""
+    : `; expected shape error as built ${num(s.expected_shape_error_percent, 3)} %`;
+  const top = s.contributors.slice(0, 3).map((c) =>
+    `${c.label} ±${c.tolerance}${c.unit === "°" ? "" : " "}${c.unit}: ${num(c.rms_mm, 3)} mm RMS, tip ${num(c.tip_mm, 3)} mm`);
+  return [
+    ["spread at the tolerances", `${num(s.rms_mm, 3)} mm RMS (${num(s.rms_percent, 3)} % of the length), at worst ${num(s.worst_mm, 3)} mm; tip ${num(s.tip_rms_mm, 3)} mm RMS${expected}`],
+    ["matters most", top.join("; ")],
+  ];
+}
+
+// The patches among the three largest sources of spread (numbered from 1).
+function sensitivePatches(result) {
+  const top = (result.spread?.contributors ?? []).slice(0, 3);
+  return new Set(top.filter((c) => c.source === "patch").map((c) => c.patch));
+}
+
 export async function showResult(page, jobId, result, preview) {
   const target = preview?.points_mm;
   const m = result.metrics;
@@ -58,6 +79,7 @@ export async function showResult(page, jobId, result, preview) {
     ...shortfalls(result),
     ...layouts(result),
     ...selfContact(result),
+    ...spread(result),
     ["DTW κ, τ", `${num(m.dtw_curvature, 3)}, ${num(m.dtw_torsion, 3)}`],
     ["target", `${num(result.target_length_mm, 4)} mm`],
     ["inflated", `${num(result.inflated_length_mm, 4)} mm`],
@@ -86,7 +108,7 @@ export async function showResult(page, jobId, result, preview) {
   $("#unrolled-caption").textContent = "The design's patches on the unrolled balloon (as cut)";
   drawUnrolled($("#unrolled"), {
     lengthMm: result.design.balloon.length_mm, radiusMm: result.design.balloon.radius_mm, patches: result.design.patches });
-  patchTable(page, result.design, target);
+  patchTable(page, result.design, target, sensitivePatches(result));
   for (const button of document.querySelectorAll("#downloads [data-file]")) {
     button.onclick = () => download(jobId, button.dataset.file).catch((e) => ($("#job-error").textContent = e.message));
   }
@@ -114,10 +136,13 @@ async function inflate(page, design, target, name, label) {
   return { sim, fit, seconds: (performance.now() - started) / 1000 };
 }
 
-function patchTable(page, design, target) {
+// The patch table; the patches in `sensitive` (numbered from 1) are marked
+// as the ones to place with most care.
+function patchTable(page, design, target, sensitive = new Set()) {
   const table = $("#patch-table");
   const head = el("tr", {}, el("th", { scope: "col", text: "patch" }), ...FIELDS.map(([, h]) => el("th", { scope: "col", text: h })));
-  const rows = design.patches.map((p, i) => el("tr", {}, el("th", { scope: "row", text: `P${i + 1}` }),
+  const name = (i) => sensitive.has(i + 1) ? `P${i + 1} (place with care)` : `P${i + 1}`;
+  const rows = design.patches.map((p, i) => el("tr", sensitive.has(i + 1) ? { class: "sensitive" } : {}, el("th", { scope: "row", text: name(i) }),
     ...FIELDS.map(([key, h]) => el("td", {}, el("input", { type: "number", step: "any", value: +p[key].toFixed(3),
       "aria-label": `P${i + 1} ${h}`, "data-patch": i, "data-key": key })))));
   table.replaceChildren(el("thead", {}, head), el("tbody", {}, ...rows));

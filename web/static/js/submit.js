@@ -1,5 +1,5 @@
 // The design form: fidelity, seed, budget, balloon profile or balloon,
-// patches and bounds,
+// patches and bounds, the tolerances of the spread,
 // sent with the curve as POST /v1/jobs. The server's validation errors go
 // beside the field they name.
 
@@ -18,6 +18,12 @@ const NUMBERS = [
   ["#h-max", ["bounds", "h_max_mm"]],
   ["#w-min", ["bounds", "w_min_mm"]],
   ["#w-max", ["bounds", "w_max_mm"]],
+  ["#tol-placement", ["tolerances", "placement_mm"]],
+  ["#tol-angle", ["tolerances", "angle_deg"]],
+  ["#tol-size", ["tolerances", "size_mm"]],
+  ["#tol-pressure", ["tolerances", "pressure_kpa"]],
+  ["#tol-wall", ["tolerances", "wall_percent"]],
+  ["#tol-modulus", ["tolerances", "modulus_percent"]],
 ];
 
 function put(object, path, value) {

@@ -22,6 +22,7 @@ const STAGES = {
   refine: "refine: Levenberg–Marquardt on the shape error",
   layout: "layout: patches added where the curve bends gently, or taken out",
   final_refine: "final refine: the refine on the finest model",
+  spread: "spread: the design at the tolerances, a solve per source",
   calibrate: "calibrate: the material fitted to the measurements",
 };
 

@@ -76,7 +76,14 @@ pub fn design_files(report: &crate::inverse::DesignReport) -> Result<Vec<OutputF
         file(
             "template.svg",
             "image/svg+xml",
-            template_svg(&report.design).into_bytes(),
+            template_svg(
+                &report.design,
+                &report
+                    .spread
+                    .as_ref()
+                    .map_or(Vec::new(), |s| s.careful_patches(3)),
+            )
+            .into_bytes(),
         ),
         file("profiles.svg", "image/svg+xml", profiles.into_bytes()),
     ])

@@ -10,7 +10,7 @@ use crate::inverse::Profiles;
 
 /// Margins of the template sheet round the unrolled balloon, mm.
 const LEFT_MM: f64 = 24.0;
-const TOP_MM: f64 = 18.0;
+const TOP_MM: f64 = 21.0;
 const BOTTOM_MM: f64 = 22.0;
 const RIGHT_MM: f64 = 20.0;
 /// Text height on the template, mm.
@@ -21,7 +21,7 @@ const TEXT_MM: f64 = 2.2;
 /// seam, Y along it from the clamped base) with every patch outlined and
 /// numbered as in `design.csv`, a Y scale every 10 mm, the circumference and
 /// length dimensioned, and a 10 mm bar to check the print scale.
-pub fn template_svg(design: &Design) -> String {
+pub fn template_svg(design: &Design, careful: &[usize]) -> String {
     let (c, l) = (design.balloon.circumference(), design.balloon.length_mm);
     let (w, h) = (LEFT_MM + c + RIGHT_MM, TOP_MM + l + BOTTOM_MM);
     let mut sheet = Sheet {
@@ -70,7 +70,19 @@ pub fn template_svg(design: &Design) -> String {
             sheet.polygon(&piece, "red");
         }
         let label = (p.x_mm.rem_euclid(c) + 0.5, p.y_mm);
-        sheet.text(label, "start", &format!("P{}", i + 1));
+        let care = if careful.contains(&(i + 1)) { " !" } else { "" };
+        sheet.text(label, "start", &format!("P{}{care}", i + 1));
+    }
+    if !careful.is_empty() {
+        let names: Vec<String> = careful.iter().map(|p| format!("P{p}")).collect();
+        sheet.text(
+            (-LEFT_MM + 2.0, l + 16.5),
+            "start",
+            &format!(
+                "! {}: place with most care (the design's spread is most sensitive to them)",
+                names.join(", ")
+            ),
+        );
     }
     sheet.svg.push_str("</svg>\n");
     sheet.svg

@@ -90,6 +90,9 @@ fn outcome(
         budget_spent: run.termination == SearchEnd::Optimizer(Termination::MaxEvaluations),
         layouts: &run.layouts,
     });
+    let spread = run
+        .spread
+        .map(|s| s.against_given(as_given.shape_error_percent));
     let state = run.state;
     Ok(DesignOutcome {
         at_limits,
@@ -118,6 +121,8 @@ fn outcome(
         reach: run.reach,
         layouts: run.layouts,
         shortfalls,
+        spread,
+        spread_failed: run.spread_failed,
         elapsed: Duration::from_secs_f64(ctx.elapsed_s()),
     })
 }

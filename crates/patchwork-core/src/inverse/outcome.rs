@@ -14,6 +14,7 @@ use crate::curve::Curve;
 use crate::design::Design;
 use crate::fe::Simulation;
 use crate::fe::mesh::MeshSpec;
+use crate::spread::Spread;
 
 /// A stage's name: the one the plan lists it by (`Stage::name`), the
 /// executor announces it by, and progress reports carry. Serialised in
@@ -39,11 +40,13 @@ pub enum StageName {
     Layout,
     /// The refine once more on the finest model.
     FinalRefine,
+    /// The verified design at the tolerances, source by source.
+    Spread,
 }
 
 impl StageName {
     /// Every stage, in the order a plan takes them.
-    pub const ALL: [StageName; 9] = [
+    pub const ALL: [StageName; 10] = [
         StageName::Seed,
         StageName::Reach,
         StageName::Search,
@@ -53,6 +56,7 @@ impl StageName {
         StageName::Refine,
         StageName::Layout,
         StageName::FinalRefine,
+        StageName::Spread,
     ];
 
     /// As written in plans and progress lines: `final refine`.
@@ -67,6 +71,7 @@ impl StageName {
             StageName::Refine => "refine",
             StageName::Layout => "layout",
             StageName::FinalRefine => "final refine",
+            StageName::Spread => "spread",
         }
     }
 }
@@ -227,5 +232,10 @@ pub struct DesignOutcome {
     pub layouts: Vec<LayoutTrial>,
     /// Why the shape error is high, when it is (`shortfall.rs`).
     pub shortfalls: Vec<Shortfall>,
+    /// The verified design's spread at the user's tolerances, against the
+    /// target as given; none when the plan has no spread stage or it
+    /// failed (`spread_failed` says why).
+    pub spread: Option<Spread>,
+    pub spread_failed: Option<String>,
     pub elapsed: Duration,
 }

@@ -7,7 +7,7 @@
 //!
 //! ```text
 //! seed → reach → search → polish → verify → length → refine (± correction)
-//!      → layout (a finer layout, refined alike) → final refine
+//!      → layout (a finer layout, refined alike) → final refine → spread
 //! ```
 
 use super::errors::DesignRunError;
@@ -17,7 +17,8 @@ use super::outcome::StageName;
 use super::run::{Context, Run};
 use super::settings::UserSettings;
 use super::stages::{
-    FinalRefine, Layout, Length, MAX_LAYOUTS, Polish, Reach, Refine, Search, Seed, Verify,
+    FinalRefine, Layout, Length, MAX_LAYOUTS, Polish, Reach, Refine, Search, Seed, SpreadStage,
+    Verify,
 };
 use super::tuning::{Tuning, TuningOverrides};
 
@@ -32,6 +33,7 @@ pub enum Stage {
     Refine(Refine),
     Layout(Layout),
     FinalRefine(FinalRefine),
+    Spread(SpreadStage),
 }
 
 impl Stage {
@@ -45,6 +47,7 @@ impl Stage {
             Stage::Refine(_) => StageName::Refine,
             Stage::Layout(_) => StageName::Layout,
             Stage::FinalRefine(_) => StageName::FinalRefine,
+            Stage::Spread(_) => StageName::Spread,
         }
     }
 
@@ -69,6 +72,10 @@ impl Stage {
                 "{} solves with the refine's, on the {} model",
                 f.shared_solves, f.refine.mesh
             )),
+            Stage::Spread(s) => Some(format!(
+                "{} solves per patch and 3, at the tolerances",
+                s.solves_per_patch
+            )),
             Stage::Reach(_) | Stage::Verify(_) | Stage::Length(_) => None,
         }
     }
@@ -88,6 +95,7 @@ impl Stage {
             Stage::Refine(stage) => stage.run(run, ctx),
             Stage::Layout(stage) => stage.run(run, ctx),
             Stage::FinalRefine(stage) => stage.run(run, ctx),
+            Stage::Spread(stage) => stage.run(run, ctx),
         }
     }
 }
@@ -236,6 +244,11 @@ fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<Stage> {
             shared_solves: tuning.refine_budget,
         }));
     }
+    if tuning.spread {
+        stages.push(Stage::Spread(SpreadStage {
+            solves_per_patch: 5,
+        }));
+    }
     stages
 }
 
@@ -292,6 +305,10 @@ fn check(
         return Err(SettingsError::new("threads", "must be at least 1"));
     }
     settings
+        .tolerances
+        .check()
+        .map_err(|(field, reason)| SettingsError::new(format!("tolerances.{field}"), reason))?;
+    settings
         .bounds
         .validate()
         .map_err(|e| SettingsError::new(format!("bounds.{}", e.field), e.to_string()))?;
@@ -340,7 +357,8 @@ mod tests {
         assert!(tuning.search_patience > 0 && tuning.refine_budget > 0);
         let expected = format!(
             "reach; search: {} evaluations, ends after {} without a better design; verify; \
-             length; refine: {} solves; layout: up to 5 layouts, {} solves each",
+             length; refine: {} solves; layout: up to 5 layouts, {} solves each; \
+             spread: 5 solves per patch and 3, at the tolerances",
             draft.search_budget(),
             tuning.search_patience,
             tuning.refine_budget,
@@ -349,7 +367,7 @@ mod tests {
         assert_eq!(draft.describe_budgets(), expected);
         assert_eq!(
             draft.describe(),
-            "seed → reach → search → verify → length → refine → layout"
+            "seed → reach → search → verify → length → refine → layout → spread"
         );
 
         let standard = plan(
@@ -378,6 +396,6 @@ mod tests {
         ] {
             assert!(budgets.contains(&part), "{part:?} not in {budgets:?}");
         }
-        assert!(budgets.ends_with("model"), "{budgets}");
+        assert!(budgets.ends_with("at the tolerances"), "{budgets}");
     }
 }

@@ -172,6 +172,7 @@ impl Fidelity {
             trains: true,
             gentle_bends: true,
             planar_designs: true,
+            spread: true,
             ..Tuning::default()
         }
     }

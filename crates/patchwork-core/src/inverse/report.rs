@@ -11,6 +11,7 @@ use super::reach::ReachReport;
 use super::shortfall::Explained;
 use crate::design::Design;
 use crate::fe::contact::{SelfContact, self_contacts};
+use crate::spread::Spread;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DesignReport {
@@ -90,6 +91,14 @@ pub struct DesignReport {
     /// it does not.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub self_contact: Vec<SelfContact>,
+    /// How far the centreline moves under the tolerances the run was given
+    /// (patch placement, angle and size; pressure, wall, modulus), its
+    /// sources largest first; absent when the run had no spread stage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spread: Option<Spread>,
+    /// Why the spread could not be found, when it could not.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spread_failed: Option<String>,
 }
 
 impl DesignReport {
@@ -133,6 +142,8 @@ impl DesignReport {
             layouts: outcome.layouts.clone(),
             shortfalls: outcome.shortfalls.iter().map(Explained::from).collect(),
             self_contact: self_contacts(&outcome.simulation.rings),
+            spread: outcome.spread.clone(),
+            spread_failed: outcome.spread_failed.clone(),
         }
     }
 }

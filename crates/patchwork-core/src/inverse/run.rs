@@ -24,6 +24,7 @@ use crate::curve::Curve;
 use crate::design::{Design, Patch};
 use crate::fe::mesh::MeshSpec;
 use crate::fe::{SimulateOptions, Simulation};
+use crate::spread::Spread;
 
 /// How a caller watches a run: progress of every stage and generation, a
 /// checkpoint after the seed and after every search generation, and the
@@ -239,6 +240,9 @@ pub struct Run<'a> {
     pub reach: Option<ReachReport>,
     /// The layouts the layout stage tried (none when it did not run).
     pub layouts: Vec<LayoutTrial>,
+    /// The spread stage's answer, or why it has none.
+    pub spread: Option<Spread>,
+    pub spread_failed: Option<String>,
 }
 
 impl<'a> Run<'a> {
@@ -266,6 +270,8 @@ impl<'a> Run<'a> {
             final_refine_skipped: None,
             reach: None,
             layouts: Vec::new(),
+            spread: None,
+            spread_failed: None,
         }
     }
 

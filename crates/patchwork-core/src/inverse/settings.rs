@@ -8,6 +8,7 @@ use super::input::Smoothing;
 use super::presets::Fidelity;
 use super::variables::{Freedom, VariableBounds};
 use crate::design::Design;
+use crate::spread::Tolerances;
 
 /// A user's choices for a design run.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,6 +30,8 @@ pub struct UserSettings {
     pub smoothing: Smoothing,
     /// Threads evaluating a search generation or a Jacobian's columns.
     pub threads: usize,
+    /// The fabrication and operating tolerances the spread is reported at.
+    pub tolerances: Tolerances,
 }
 
 impl Default for UserSettings {
@@ -43,6 +46,7 @@ impl Default for UserSettings {
             fix_length: false,
             smoothing: Smoothing::Auto,
             threads: 1,
+            tolerances: Tolerances::default(),
         }
     }
 }

@@ -54,6 +54,9 @@ pub struct Tuning {
     /// Θ = 0 on one line of the tube and the line opposite, X and Θ kept
     /// fixed by the search and the refines.
     pub planar_designs: bool,
+    /// After the design, its spread at the user's tolerances (a solve per
+    /// patch quantity and three for the balloon, on the verified model).
+    pub spread: bool,
     /// Evaluations of a CMA-ES polish on the verification model after the
     /// search (0 or 1: none). Not checkpointed: a resumed run repeats it.
     pub polish_budget: usize,
@@ -87,6 +90,7 @@ impl Default for Tuning {
             trains: false,
             gentle_bends: false,
             planar_designs: false,
+            spread: false,
             polish_budget: 0,
             refine_budget: 0,
             correction_mesh: None,
@@ -189,6 +193,9 @@ pub struct TuningOverrides {
     /// Whether a planar target gets a planar design.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub planar_designs: Option<bool>,
+    /// false: no spread at the tolerances after the design.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spread: Option<bool>,
     /// KSA's curvature tolerance (mm⁻¹): bends gentler than this get no patch.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kappa_tol: Option<f64>,
@@ -218,6 +225,7 @@ impl TuningOverrides {
         tuning.trains = self.trains.unwrap_or(tuning.trains);
         tuning.gentle_bends = self.gentle_bends.unwrap_or(tuning.gentle_bends);
         tuning.planar_designs = self.planar_designs.unwrap_or(tuning.planar_designs);
+        tuning.spread = self.spread.unwrap_or(tuning.spread);
         tuning.kappa_tol = self.kappa_tol.unwrap_or(tuning.kappa_tol);
         if self.correction == Some(false) {
             tuning.correction_mesh = None;

@@ -23,6 +23,24 @@ pub struct Contributor {
     pub tip_mm: f64,
 }
 
+/// What the samples found.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MonteCarlo {
+    pub samples: usize,
+    pub seed: u64,
+    /// Samples whose design did not solve (left out of the figures).
+    pub failed: usize,
+    /// The centreline's RMS change over the samples that solved (mm), and
+    /// the tip's RMS distance from its nominal place.
+    pub rms_mm: f64,
+    pub tip_rms_mm: f64,
+    /// `rms_mm` over the linear spread's, and its sampling error (one σ).
+    pub ratio: f64,
+    pub ratio_sigma: f64,
+    /// The ratio within `AGREEMENT` (`monte_carlo.rs`) of 1.
+    pub agrees: bool,
+}
+
 /// The linear spread of a design's centreline.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Spread {
@@ -46,11 +64,40 @@ pub struct Spread {
     pub expected_shape_error_percent: Option<f64>,
     /// Every source, the largest share first.
     pub contributors: Vec<Contributor>,
-    /// FE solves taken (the nominal one included).
+    /// FE solves taken: one per source, and the nominal where it was
+    /// solved for the spread (not in a design run, which has it).
     pub solves: usize,
+    /// The Monte-Carlo check, where one was asked for.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub monte_carlo: Option<MonteCarlo>,
 }
 
 impl Spread {
+    /// This spread with the nominal design's shape error against the
+    /// target set to `nominal_percent`, and the expected one from it.
+    pub fn against_given(mut self, nominal_percent: f64) -> Spread {
+        self.nominal_shape_error_percent = Some(nominal_percent);
+        self.expected_shape_error_percent = Some(nominal_percent.hypot(self.rms_percent));
+        self
+    }
+
+    /// The patches (numbered from 1, in order) among the `n` largest
+    /// contributors: the ones to place with most care.
+    pub fn careful_patches(&self, n: usize) -> Vec<usize> {
+        let mut patches: Vec<usize> = self
+            .contributors
+            .iter()
+            .take(n)
+            .filter_map(|c| match c.source {
+                Source::Patch { patch, .. } => Some(patch),
+                _ => None,
+            })
+            .collect();
+        patches.sort_unstable();
+        patches.dedup();
+        patches
+    }
+
     /// The `n` largest contributors as a person reads them: "P3 angle ±2°:
     /// 1.20 mm RMS, tip 2.10 mm".
     pub fn largest(&self, n: usize) -> Vec<String> {

@@ -1,6 +1,10 @@
-//! The linear spread: the nominal design solved once, then each source at
-//! its tolerance (in parallel, warm-started from the nominal state); each
-//! centreline compared with the nominal at equal fractions of length.
+//! The linear spread: each source at its tolerance, its centreline by a
+//! Newton solve warm-started from the nominal state (a secant: at these
+//! tolerances the linearised response of `fe::sensitivity` overstates a
+//! patch's placement around the tube two- to threefold, the tube's soft
+//! twist answering a first-order force that its geometric stiffening
+//! holds back); each centreline compared with the nominal at equal
+//! fractions of length.
 //!
 //! With dₖ the change of the centreline's samples at source k's tolerance
 //! (after the best rigid alignment onto the nominal, n samples) and tₖ the
@@ -13,15 +17,15 @@
 //!   nominal's (the changes have mean zero to first order).
 
 use super::answer::{Contributor, Spread};
+use super::change::{Nominal, SAMPLES, change_of};
+use super::monte_carlo::monte_carlo;
 use super::sources::Source;
 use super::tolerances::Tolerances;
-use crate::curve::{AlignedSamples, Curve, shape_error};
+use crate::curve::{Curve, shape_error};
 use crate::design::Design;
-use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate, simulate_from};
+use crate::fe::newton::PatternCache;
+use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate, simulate_with};
 use crate::parallel::map_in_threads;
-
-/// Samples of the centreline compared.
-const SAMPLES: usize = 64;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SpreadError {
@@ -33,41 +37,103 @@ pub enum SpreadError {
     Moved { label: String, reason: String },
 }
 
-/// One source's change: the centreline's samples (mm, aligned) and the tip.
-struct Change {
-    samples_sq: f64,
-    tip_mm: f64,
+/// What the spread is measured against: the length its percentages are of,
+/// and the nominal design's shape error against the target, if any.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Against {
+    pub length_mm: f64,
+    pub nominal_shape_error_percent: Option<f64>,
+}
+
+impl Against {
+    /// `target` (the nominal's shape error measured against it) or, without
+    /// one, the nominal centreline's own length.
+    pub fn target(nominal: &Simulation, target: Option<&Curve>) -> Result<Against, SpreadError> {
+        let nominal_shape_error_percent = target
+            .map(|t| shape_error(&nominal.centreline, t, SAMPLES))
+            .transpose()
+            .map_err(degenerate)?
+            .map(|e| e.percent_of_length);
+        Ok(Against {
+            length_mm: target.map_or(nominal.centreline.length(), Curve::length),
+            nominal_shape_error_percent,
+        })
+    }
+}
+
+fn degenerate(e: crate::CurveError) -> SpreadError {
+    SpreadError::Nominal(SimulateError::Centreline(e.to_string()))
+}
+
+/// A Monte-Carlo check to run with the spread: its samples and seed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Check {
+    pub samples: usize,
+    pub seed: u64,
 }
 
 /// The spread of `design`'s centreline under `tolerances`, solved with
-/// `options` on up to `threads` threads; against `target` where given.
+/// `options` on up to `threads` threads; against `target` where given; with
+/// the Monte-Carlo `check` where asked.
 pub fn linear_spread(
     design: &Design,
     target: Option<&Curve>,
     tolerances: &Tolerances,
     options: &SimulateOptions,
     threads: usize,
+    check: Option<Check>,
 ) -> Result<Spread, SpreadError> {
     tolerances.validate().map_err(SpreadError::Tolerances)?;
     let nominal = simulate(design, options).map_err(SpreadError::Nominal)?;
-    let degenerate =
-        |e: crate::CurveError| SpreadError::Nominal(SimulateError::Centreline(e.to_string()));
-    let samples = nominal.centreline.resample(SAMPLES).map_err(degenerate)?;
-    let sources = Source::all(design, tolerances);
-    let changes = map_in_threads(&sources, threads, &|&source| {
-        let (tolerance, _) = source.tolerance(tolerances);
-        let moved = source.moved(design, tolerance);
-        simulate_from(&moved, options, Some(&nominal))
+    let against = Against::target(&nominal, target)?;
+    let nominal = Nominal {
+        design,
+        simulation: &nominal,
+        options,
+    };
+    let mut spread = spread_of(&nominal, &against, tolerances, threads)?;
+    spread.solves += 1;
+    if let Some(Check { samples, seed }) = check {
+        let sampled = monte_carlo(&nominal, &spread, tolerances, samples, seed, threads);
+        spread.solves += samples;
+        spread.monte_carlo = Some(sampled);
+    }
+    Ok(spread)
+}
+
+/// The spread of a design whose nominal state is known (a design run's
+/// verified simulation), on up to `threads` threads.
+pub fn spread_of(
+    nominal: &Nominal,
+    against: &Against,
+    tolerances: &Tolerances,
+    threads: usize,
+) -> Result<Spread, SpreadError> {
+    tolerances.validate().map_err(SpreadError::Tolerances)?;
+    let samples = nominal
+        .simulation
+        .centreline
+        .resample(SAMPLES)
+        .map_err(degenerate)?;
+    let sources = Source::all(nominal.design, tolerances);
+    let moved: Vec<Design> = sources
+        .iter()
+        .map(|s| s.moved(nominal.design, s.tolerance(tolerances).0))
+        .collect();
+    let patterns = PatternCache::default();
+    let changes = map_in_threads(&moved, threads, &|design| {
+        simulate_with(design, nominal.options, Some(nominal.simulation), &patterns)
             .map_err(|e| e.to_string())
-            .and_then(|sim| change(&sim, &nominal, &samples))
-            .map_err(|reason| SpreadError::Moved {
-                label: source.label(),
-                reason,
+            .and_then(|moved| {
+                change_of(&moved.centreline, &nominal.simulation.centreline, &samples)
             })
     });
     let mut contributors = Vec::with_capacity(sources.len());
     for (source, change) in sources.into_iter().zip(changes) {
-        let change = change?;
+        let change = change.map_err(|reason| SpreadError::Moved {
+            label: source.label(),
+            reason,
+        })?;
         let (tolerance, unit) = source.tolerance(tolerances);
         contributors.push(Contributor {
             source,
@@ -79,28 +145,18 @@ pub fn linear_spread(
         });
     }
     contributors.sort_by(|a, b| b.rms_mm.total_cmp(&a.rms_mm));
-    let nominal_error = target
-        .map(|t| shape_error(&nominal.centreline, t, SAMPLES))
-        .transpose()
-        .map_err(degenerate)?
-        .map(|e| e.percent_of_length);
-    Ok(summary(contributors, nominal_error, target, &nominal))
+    Ok(summary(contributors, against))
 }
 
 /// The sources' shares added up.
-fn summary(
-    contributors: Vec<Contributor>,
-    nominal_error: Option<f64>,
-    target: Option<&Curve>,
-    nominal: &Simulation,
-) -> Spread {
+fn summary(contributors: Vec<Contributor>, against: &Against) -> Spread {
     let rms_mm = contributors
         .iter()
         .map(|c| c.rms_mm.powi(2))
         .sum::<f64>()
         .sqrt();
-    let length = target.map_or(nominal.centreline.length(), Curve::length);
-    let rms_percent = 100.0 * rms_mm / length;
+    let rms_percent = 100.0 * rms_mm / against.length_mm;
+    let nominal_error = against.nominal_shape_error_percent;
     Spread {
         rms_mm,
         rms_percent,
@@ -113,22 +169,8 @@ fn summary(
         tip_worst_mm: contributors.iter().map(|c| c.tip_mm).sum(),
         nominal_shape_error_percent: nominal_error,
         expected_shape_error_percent: nominal_error.map(|e| e.hypot(rms_percent)),
-        solves: contributors.len() + 1,
+        solves: contributors.len(),
         contributors,
+        monte_carlo: None,
     }
-}
-
-/// How `sim` differs from `nominal`: Σ|dᵢ|² over the nominal's samples
-/// after the best rigid alignment, and the tip's move unaligned.
-fn change(sim: &Simulation, nominal: &Simulation, samples: &Curve) -> Result<Change, String> {
-    let aligned = AlignedSamples::new(&sim.centreline, samples).map_err(|e| e.to_string())?;
-    let samples_sq = aligned.residuals.iter().map(|r| r.norm_squared()).sum();
-    let tip = |s: &Simulation| s.centreline.points().last().copied();
-    let (Some(moved), Some(home)) = (tip(sim), tip(nominal)) else {
-        return Err("no centreline".into());
-    };
-    Ok(Change {
-        samples_sq,
-        tip_mm: (moved - home).norm(),
-    })
 }

@@ -3,21 +3,29 @@
 //! placement (X, Y), angle (Θ) and size (H, W), the pressure, the wall's
 //! thickness and the material's modulus.
 //!
-//! The linear estimate ([`linear_spread`]): one FE solve per source, each
-//! at its tolerance, warm-started from the nominal state; the centreline's
-//! change from the nominal (after the best rigid alignment, as the shape
-//! error is measured) and the tip's move in the clamp's frame. Tolerances
+//! The linear estimate ([`linear_spread`], [`spread_of`] from a known
+//! nominal state): one FE solve per source, each at its tolerance,
+//! warm-started from the nominal state; the centreline's change from the
+//! nominal (after the best rigid alignment, as the shape error is measured)
+//! and the tip's move in the clamp's frame. Tolerances
 //! are read as one standard deviation of independent errors, so the
 //! spreads add in quadrature; the worst case adds them in magnitude (an
 //! upper bound of every source at its tolerance the worst way).
+//!
+//! The Monte-Carlo check ([`monte_carlo`]) draws every source at once,
+//! solves the samples in full and says whether the linear estimate holds.
 
 mod answer;
+mod change;
 mod linear;
+mod monte_carlo;
 mod sources;
 mod tolerances;
 
-pub use answer::{Contributor, Spread};
-pub use linear::{SpreadError, linear_spread};
+pub use answer::{Contributor, MonteCarlo, Spread};
+pub use change::Nominal;
+pub use linear::{Against, Check, SpreadError, linear_spread, spread_of};
+pub use monte_carlo::{AGREEMENT, monte_carlo};
 pub use sources::{PatchQuantity, Source};
 pub use tolerances::Tolerances;
 

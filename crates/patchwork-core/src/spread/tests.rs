@@ -44,7 +44,7 @@ fn patches_only() -> Tolerances {
 
 #[test]
 fn the_critical_patch_is_ranked_first_and_the_sums_hold() {
-    let spread = linear_spread(&design(), None, &patches_only(), &options(), 4).unwrap();
+    let spread = linear_spread(&design(), None, &patches_only(), &options(), 4, None).unwrap();
     assert_eq!(spread.contributors.len(), 15);
     assert_eq!(spread.solves, 16);
     let first = &spread.contributors[0];
@@ -80,7 +80,7 @@ fn no_tolerance_no_spread_and_a_bad_one_is_named() {
     };
     let d = design();
     let target = crate::fe::simulate(&d, &options()).unwrap().centreline;
-    let spread = linear_spread(&d, Some(&target), &none, &options(), 1).unwrap();
+    let spread = linear_spread(&d, Some(&target), &none, &options(), 1, None).unwrap();
     assert!(spread.contributors.is_empty());
     assert_eq!((spread.rms_mm, spread.solves), (0.0, 1));
     // Against its own prediction: no shape error, expected or nominal.
@@ -90,6 +90,47 @@ fn no_tolerance_no_spread_and_a_bad_one_is_named() {
         angle_deg: -1.0,
         ..Tolerances::default()
     };
-    let error = linear_spread(&d, None, &bad, &options(), 1).unwrap_err();
+    let error = linear_spread(&d, None, &bad, &options(), 1, None).unwrap_err();
     assert!(error.to_string().contains("angle_deg"), "{error}");
+}
+
+/// One smooth source alone (the wall, ±5 %), 100 seeded samples solved in
+/// full: the sampled RMS is the linear one within the check's agreement,
+/// and within three of its sampling errors (about 7 % at 100 samples).
+#[test]
+fn the_monte_carlo_check_agrees_with_the_linear_spread_of_a_smooth_source() {
+    let d = design();
+    let options = options();
+    let simulation = crate::fe::simulate(&d, &options).unwrap();
+    let nominal = Nominal {
+        design: &d,
+        simulation: &simulation,
+        options: &options,
+    };
+    let wall_only = Tolerances {
+        placement_mm: 0.0,
+        angle_deg: 0.0,
+        size_mm: 0.0,
+        pressure_kpa: 0.0,
+        modulus_percent: 0.0,
+        wall_percent: 5.0,
+    };
+    let against = Against::target(&simulation, None).unwrap();
+    let linear = spread_of(&nominal, &against, &wall_only, 4).unwrap();
+    let check = monte_carlo(&nominal, &linear, &wall_only, 100, 7, 4);
+    eprintln!(
+        "wall ±5 %: linear {:.3} mm, sampled {:.3} mm (ratio {:.3} ± {:.3}), tip {:.2} / {:.2} mm",
+        linear.rms_mm,
+        check.rms_mm,
+        check.ratio,
+        check.ratio_sigma,
+        linear.tip_rms_mm,
+        check.tip_rms_mm
+    );
+    assert_eq!((check.samples, check.failed), (100, 0));
+    assert!(check.agrees, "{check:?}");
+    assert!(
+        (check.ratio - 1.0).abs() < 3.0 * check.ratio_sigma,
+        "{check:?}"
+    );
 }

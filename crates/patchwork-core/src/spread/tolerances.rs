@@ -37,6 +37,12 @@ impl Tolerances {
     /// Every tolerance finite and 0 or more (0: that source left out); the
     /// error names the field.
     pub fn validate(&self) -> Result<(), String> {
+        self.check()
+            .map_err(|(field, reason)| format!("{field} {reason}"))
+    }
+
+    /// As [`validate`](Self::validate), the field apart from the reason.
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
         for (field, value, most) in [
             ("placement_mm", self.placement_mm, 50.0),
             ("angle_deg", self.angle_deg, 45.0),
@@ -46,7 +52,7 @@ impl Tolerances {
             ("modulus_percent", self.modulus_percent, 50.0),
         ] {
             if !(value.is_finite() && (0.0..=most).contains(&value)) {
-                return Err(format!("{field} must be between 0 and {most}, got {value}"));
+                return Err((field, format!("must be between 0 and {most}, got {value}")));
             }
         }
         Ok(())

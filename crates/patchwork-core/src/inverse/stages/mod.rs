@@ -16,6 +16,7 @@ mod reach;
 mod refine;
 mod search;
 mod seed;
+mod spread;
 mod verify;
 
 pub use final_refine::FinalRefine;
@@ -26,4 +27,5 @@ pub use reach::Reach;
 pub use refine::Refine;
 pub use search::Search;
 pub use seed::Seed;
+pub use spread::SpreadStage;
 pub use verify::Verify;

@@ -1,0 +1,72 @@
+//! The spread: how far the verified design's centreline moves under the
+//! user's fabrication and operating tolerances (`crate::spread`): one solve
+//! per source on the verification model (graded 1 mm in every preset),
+//! warm-started from the design's state there. The spread is a difference
+//! of states, which the verification model resolves as well as the finer
+//! ones that correct and verify a design's shape, at a third of their
+//! solve's cost. A spread that cannot be found (a solve fails) leaves the
+//! design as it is and says why.
+
+use super::super::errors::DesignRunError;
+use super::super::run::{Context, Run};
+use crate::spread::{Against, Nominal, spread_of};
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpreadStage {
+    /// Its solves: five per patch and three for the balloon.
+    pub solves_per_patch: usize,
+}
+
+impl SpreadStage {
+    pub(in super::super) fn run(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+    ) -> Result<(), DesignRunError> {
+        ctx.check_cancelled()?;
+        let Some(verified) = run.verified.as_ref() else {
+            return Err(DesignRunError::Plan(
+                "the spread stage needs the verify stage before it".into(),
+            ));
+        };
+        let options = &run.setup.verify_model;
+        let solved;
+        let simulation = match run.verified_on == run.setup.tuning.verify_mesh {
+            true => verified,
+            false => match ctx
+                .caches
+                .simulate_from(&run.design, options, Some(verified))
+            {
+                Ok(simulation) => {
+                    run.state.evaluations += 1;
+                    solved = simulation;
+                    &solved
+                }
+                Err(error) => {
+                    run.spread_failed =
+                        Some(format!("the design on the verification model: {error}"));
+                    return Ok(());
+                }
+            },
+        };
+        let nominal = Nominal {
+            design: &run.design,
+            simulation,
+            options,
+        };
+        // Measured against the target as given once the run is assessed.
+        let against = Against {
+            length_mm: run.setup.target.length(),
+            nominal_shape_error_percent: None,
+        };
+        let settings = run.setup.settings;
+        match spread_of(&nominal, &against, &settings.tolerances, settings.threads) {
+            Ok(spread) => {
+                run.state.evaluations += spread.solves;
+                run.spread = Some(spread);
+            }
+            Err(error) => run.spread_failed = Some(error.to_string()),
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,38 @@
+//! What the spread and its check compare: a design and its converged state,
+//! and how far another centreline lies from it.
+
+use crate::curve::{AlignedSamples, Curve};
+use crate::design::Design;
+use crate::fe::{SimulateOptions, Simulation};
+
+/// Samples of the centreline compared.
+pub const SAMPLES: usize = 64;
+
+/// One source's change: the centreline's samples (mm, aligned) and the tip.
+pub struct Change {
+    pub samples_sq: f64,
+    pub tip_mm: f64,
+}
+
+/// A design and its converged state under `options`.
+#[derive(Clone, Copy)]
+pub struct Nominal<'a> {
+    pub design: &'a Design,
+    pub simulation: &'a Simulation,
+    pub options: &'a SimulateOptions,
+}
+
+/// How `moved` differs from `nominal`: Σ|dᵢ|² over the nominal's samples
+/// after the best rigid alignment, and the tip's move unaligned.
+pub fn change_of(moved: &Curve, nominal: &Curve, samples: &Curve) -> Result<Change, String> {
+    let aligned = AlignedSamples::new(moved, samples).map_err(|e| e.to_string())?;
+    let samples_sq = aligned.residuals.iter().map(|r| r.norm_squared()).sum();
+    let tip = |c: &Curve| c.points().last().copied();
+    let (Some(moved), Some(home)) = (tip(moved), tip(nominal)) else {
+        return Err("no centreline".into());
+    };
+    Ok(Change {
+        samples_sq,
+        tip_mm: (moved - home).norm(),
+    })
+}
