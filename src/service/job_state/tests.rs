@@ -138,7 +138,7 @@ fn the_api_document_and_the_web_app_know_every_stage() {
                 .to_string()
         })
         .collect();
-    assert_eq!(names.last().map(String::as_str), Some("final_refine"));
+    assert_eq!(names.last().map(String::as_str), Some("spread"));
     names.push("calibrate".into());
     let openapi = include_str!("../../../openapi.yaml");
     let schema = &openapi[openapi.find("    Stage:").expect("Stage schema")..];
