@@ -21,6 +21,7 @@ use super::stages::{
     Verify,
 };
 use super::tuning::{Tuning, TuningOverrides};
+use crate::spread::SOURCES_PER_PATCH;
 
 /// One stage after the seed, with its own budget.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -72,9 +73,8 @@ impl Stage {
                 "{} solves with the refine's, on the {} model",
                 f.shared_solves, f.refine.mesh
             )),
-            Stage::Spread(s) => Some(format!(
-                "{} solves per patch and 3, at the tolerances",
-                s.solves_per_patch
+            Stage::Spread(_) => Some(format!(
+                "{SOURCES_PER_PATCH} solves per patch and 3, at the tolerances"
             )),
             Stage::Reach(_) | Stage::Verify(_) | Stage::Length(_) => None,
         }
@@ -245,9 +245,7 @@ fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<Stage> {
         }));
     }
     if tuning.spread {
-        stages.push(Stage::Spread(SpreadStage {
-            solves_per_patch: 5,
-        }));
+        stages.push(Stage::Spread(SpreadStage));
     }
     stages
 }

@@ -26,7 +26,7 @@ pub use answer::{Contributor, MonteCarlo, Spread};
 pub use change::Nominal;
 pub use linear::{Against, Check, SpreadError, linear_spread, spread_of};
 pub use monte_carlo::{AGREEMENT, monte_carlo};
-pub use sources::{PatchQuantity, Source};
+pub use sources::{PatchQuantity, SOURCES_PER_PATCH, Source};
 pub use tolerances::Tolerances;
 
 #[cfg(test)]

@@ -31,10 +31,13 @@ pub enum Source {
     Modulus,
 }
 
+/// A patch's sources: X, Y, angle, length, width.
+pub const SOURCES_PER_PATCH: usize = 5;
+
 impl Source {
     /// Every source of `design` whose tolerance is not 0.
     pub fn all(design: &Design, t: &Tolerances) -> Vec<Source> {
-        let quantities = [
+        let quantities: [(PatchQuantity, f64); SOURCES_PER_PATCH] = [
             (PatchQuantity::X, t.placement_mm),
             (PatchQuantity::Y, t.placement_mm),
             (PatchQuantity::Angle, t.angle_deg),

@@ -11,11 +11,9 @@ use super::super::errors::DesignRunError;
 use super::super::run::{Context, Run};
 use crate::spread::{Against, Nominal, spread_of};
 
+/// Its solves: `SOURCES_PER_PATCH` per patch and three for the balloon.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SpreadStage {
-    /// Its solves: five per patch and three for the balloon.
-    pub solves_per_patch: usize,
-}
+pub struct SpreadStage;
 
 impl SpreadStage {
     pub(in super::super) fn run(
