@@ -8,7 +8,9 @@ use std::time::Duration;
 use patchwork_core::fabrication::OutputFile;
 
 use super::export::JobExport;
-use super::profile_conformance::profiles_are_kept_per_owner_and_replaced_in_place;
+use super::profile_conformance::{
+    profiles_are_kept_per_owner_and_replaced_in_place, profiles_saved_at_once_all_land,
+};
 use super::{Database, Iteration, Lease, Renewal, Store};
 use crate::service::job_state::{Ending, EventKind, JobStatus};
 
@@ -425,6 +427,7 @@ async fn keeps_the_contract(backend: Backend) {
     a_job_without_a_spec_gets_one_once(from, into).await;
     let (from, into) = (backend.fresh().await, backend.fresh().await);
     profiles_are_kept_per_owner_and_replaced_in_place(from, into).await;
+    profiles_saved_at_once_all_land(backend.fresh().await).await;
     assert!(backend.fresh().await.ping().await);
 }
 

@@ -72,3 +72,30 @@ pub(super) async fn profiles_are_kept_per_owner_and_replaced_in_place(store: Sto
     assert!(store.profile("lab", "batch-7").await.unwrap().is_none());
     assert!(store.profile("other", "batch-7").await.unwrap().is_some());
 }
+
+/// Profiles saved while other connections write: every save lands, and
+/// exactly one save of each name reports it created (a save that read the
+/// row and then wrote it could find its snapshot stale on SQLite and fail).
+pub(super) async fn profiles_saved_at_once_all_land(store: Store) {
+    const WRITERS: usize = 6;
+    const SAVES: usize = 15;
+    let writers = (0..WRITERS).map(|w| {
+        let store = store.clone();
+        tokio::spawn(async move {
+            let mut created = 0;
+            for s in 0..SAVES {
+                let name = format!("batch-{}", s % 3);
+                let profile = format!("{{\"writer\": {w}, \"save\": {s}}}");
+                let put = store.put_profile("lab", &name, &profile, None).await;
+                created += usize::from(put.expect("a save beside other writers lands"));
+            }
+            created
+        })
+    });
+    let mut created = 0;
+    for writer in writers.collect::<Vec<_>>() {
+        created += writer.await.expect("the writer finishes");
+    }
+    assert_eq!(created, 3, "each of the three names is created once");
+    assert_eq!(store.profiles("lab").await.unwrap().len(), 3);
+}

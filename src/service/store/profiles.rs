@@ -12,6 +12,12 @@ macro_rules! profile_store {
 
             #[async_trait::async_trait]
             impl ProfileStore for $store {
+                /// Two single statements, each its own transaction: a save
+                /// that read the row and then wrote it in one transaction
+                /// could find its read stale under SQLite's WAL once another
+                /// connection had written, and fail at once. A save that
+                /// finds the row gone between the two statements (deleted
+                /// meanwhile) creates it again.
                 async fn put_profile(
                     &self,
                     owner: &str,
@@ -19,31 +25,31 @@ macro_rules! profile_store {
                     profile: &str,
                     source_job: Option<&str>,
                 ) -> Result<bool, sqlx::Error> {
-                    let mut tx = self.pool.begin().await?;
-                    let existed: Option<String> = sqlx::query_scalar(
-                        "SELECT name FROM balloon_profiles WHERE owner = $1 AND name = $2",
-                    )
-                    .bind(owner)
-                    .bind(name)
-                    .fetch_optional(&mut *tx)
-                    .await?;
-                    sqlx::query(
-                        "INSERT INTO balloon_profiles
+                    const INSERT: &str = "INSERT INTO balloon_profiles
                            (owner, name, profile, source_job, created_at, updated_at)
                          VALUES ($1, $2, $3, $4, $5, $5)
-                         ON CONFLICT (owner, name) DO UPDATE SET
-                           profile = excluded.profile, source_job = excluded.source_job,
-                           updated_at = excluded.updated_at",
-                    )
-                    .bind(owner)
-                    .bind(name)
-                    .bind(profile)
-                    .bind(source_job)
-                    .bind(now())
-                    .execute(&mut *tx)
-                    .await?;
-                    tx.commit().await?;
-                    Ok(existed.is_none())
+                         ON CONFLICT (owner, name) DO NOTHING";
+                    const UPDATE: &str = "UPDATE balloon_profiles
+                         SET profile = $3, source_job = $4, updated_at = $5
+                         WHERE owner = $1 AND name = $2";
+                    let write = |sql: &'static str, at: String| {
+                        sqlx::query(sql)
+                            .bind(owner)
+                            .bind(name)
+                            .bind(profile)
+                            .bind(source_job)
+                            .bind(at)
+                            .execute(&self.pool)
+                    };
+                    loop {
+                        let at = now();
+                        if write(INSERT, at.clone()).await?.rows_affected() == 1 {
+                            return Ok(true);
+                        }
+                        if write(UPDATE, at).await?.rows_affected() == 1 {
+                            return Ok(false);
+                        }
+                    }
                 }
 
                 async fn profile(
