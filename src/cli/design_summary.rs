@@ -33,6 +33,7 @@ pub fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         r.termination
     );
     s.push_str(&input_line(&r.input));
+    s.push_str(&cleared_line(&r.input));
     s.push_str(&as_given_line(r));
     s.push_str(&shortfall_line(r));
     s.push_str(&reach_lines(r.reach.as_ref()));
@@ -117,8 +118,27 @@ fn input_line(input: &InputReport) -> String {
     format!("input:        {smoothing}{sparse}{planar}\n")
 }
 
-/// The design against the curve as given, where smoothing or a spline
-/// through sparse points made the target the design aimed at another curve
+/// Where the design was kept clear of itself and the target was not: how
+/// far a tube along it would have passed into itself, and the clear curve
+/// aimed at instead.
+fn cleared_line(input: &InputReport) -> String {
+    let Some(c) = &input.cleared else {
+        return String::new();
+    };
+    let unfinished = match c.converged {
+        true => "",
+        false => "; not wholly clear",
+    };
+    format!(
+        "kept clear:   a tube of radius {:.1} mm along the curve would pass {:.1} mm into itself: \
+         the design aims at the nearest clear curve, moved up to {:.1} mm ({:.1} mm RMS){unfinished}\n",
+        c.radius_mm, c.overlap_mm, c.moved_max_mm, c.moved_rms_mm
+    )
+}
+
+/// The design against the curve as given, where smoothing, a spline
+/// through sparse points or keeping clear of itself made the target the
+/// design aimed at another curve
 /// (empty otherwise: the figures above are then against the curve as given).
 fn as_given_line(r: &DesignReport) -> String {
     match &r.as_given {
@@ -153,9 +173,16 @@ fn spread_lines(r: &DesignReport) -> String {
     }
 }
 
-/// Where the predicted tube passes through itself, a line each.
+/// Where the predicted tube passes through itself, a line each, and how to
+/// design clear of it.
 fn contact_lines(r: &DesignReport) -> String {
-    r.self_contact.iter().map(contact_line).collect()
+    let mut lines: String = r.self_contact.iter().map(contact_line).collect();
+    if !lines.is_empty() && !r.input.keep_clear {
+        lines.push_str(
+            "              --tuning '{\"keep_clear\": true}' designs a balloon that keeps clear of itself\n",
+        );
+    }
+    lines
 }
 
 /// One self-contact as the CLI prints it (`design` and `simulate`).

@@ -79,6 +79,8 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
 
     page.select("#fidelity", "draft").await;
     page.type_into("#budget", budget).await;
+    // Kept clear of itself: the form's box reaches the run.
+    page.click("#keep-clear").await;
     page.click("#submit").await;
     page.wait_text("#job-heading", "the job's view", |t| t.starts_with("Job "))
         .await;
@@ -116,6 +118,10 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
         (ours / server - 1.0).abs() < 0.01,
         "page {ours} % vs server {server} %"
     );
+    let kept_clear = page
+        .execute("return window.patchwork.result.input.keep_clear", json!([]))
+        .await;
+    assert_eq!(kept_clear, json!(true), "the box ticked reaches the run");
     // The layouts the run tried are listed whenever there was more than one.
     let tried = page
         .execute(

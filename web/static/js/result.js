@@ -11,13 +11,24 @@ import { offerComparison } from "./compare.js";
 
 const FIELDS = [["x_mm", "X (mm)"], ["y_mm", "Y (mm)"], ["h_mm", "H (mm)"], ["w_mm", "W (mm)"], ["theta_deg", "Θ (°)"]];
 
-// Where smoothing or a spline through sparse points changed the target, the
-// design against the curve as the user gave it too.
+// Where smoothing, a spline through sparse points or keeping the tube clear
+// of itself changed the target, the design against the curve as the user
+// gave it too.
 function asGiven(result) {
   const g = result.as_given;
-  if (!g || !(result.input?.smoothing_mm > 0 || result.input?.interpolated)) return [];
+  const input = result.input ?? {};
+  if (!g || !(input.smoothing_mm > 0 || input.interpolated || input.cleared)) return [];
   return [["shape error, curve as given",
-    `${num(g.shape_error_percent, 3)} % of its length (${num(g.shape_error_mm, 3)} mm RMS; before smoothing, ${num(g.length_mm, 4)} mm long)`]];
+    `${num(g.shape_error_percent, 3)} % of its length (${num(g.shape_error_mm, 3)} mm RMS; the curve as given, ${num(g.length_mm, 4)} mm long)`]];
+}
+
+// A target a tube could not follow without passing through itself, and the
+// clear curve the design aimed at instead.
+function cleared(result) {
+  const c = result.input?.cleared;
+  if (!c) return [];
+  return [["kept clear of itself",
+    `a tube of radius ${num(c.radius_mm, 3)} mm along the curve would pass ${num(c.overlap_mm, 3)} mm into itself; the design aims at the nearest clear curve, moved up to ${num(c.moved_max_mm, 3)} mm (${num(c.moved_rms_mm, 3)} mm RMS)${c.converged ? "" : ", not wholly clear"}`]];
 }
 
 // Where the shape error is above 1 %, the causes the run found, in the
@@ -44,7 +55,8 @@ function selfContact(result) {
   if (!contacts.length) return [];
   const text = contacts.map((c) =>
     `${num(c.overlap_mm, 2)} mm deep at s ${num(c.s_mm[0], 3)} and ${num(c.s_mm[1], 3)} mm (balloon Y ${num(c.y_mm[0], 3)} and ${num(c.y_mm[1], 3)} mm)`);
-  return [["passes through itself", `${text.join("; ")}: the real balloon pushes apart there`]];
+  const remedy = result.input?.keep_clear ? "" : " (Keep the tube clear of itself designs one that does not)";
+  return [["passes through itself", `${text.join("; ")}: the real balloon pushes apart there${remedy}`]];
 }
 
 // How far the built balloon may stray at the run's tolerances, and the
@@ -76,6 +88,7 @@ export async function showResult(page, jobId, result, preview) {
   const rows = [
     ["shape error", `${num(m.shape_error_percent, 3)} % of the length (${num(m.shape_error_mm, 3)} mm RMS)`],
     ...asGiven(result),
+    ...cleared(result),
     ...shortfalls(result),
     ...layouts(result),
     ...selfContact(result),

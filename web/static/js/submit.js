@@ -1,5 +1,5 @@
 // The design form: fidelity, seed, budget, balloon profile or balloon,
-// patches and bounds, the tolerances of the spread,
+// patches and bounds, the tolerances of the spread, keeping clear of itself,
 // sent with the curve as POST /v1/jobs. The server's validation errors go
 // beside the field they name.
 
@@ -62,6 +62,7 @@ export function jobRequest(curveSpec) {
   }
   const profile = $("#balloon-profile").value;
   if (profile) request.balloon_profile = profile;
+  if ($("#keep-clear").checked) put(request, ["tuning", "keep_clear"], true);
   return request;
 }
 
@@ -74,6 +75,7 @@ export function fillForm(request) {
     const material = get(request, path);
     $(id).value = material ? JSON.stringify(material) : "";
   }
+  $("#keep-clear").checked = request.tuning?.keep_clear === true;
   return request.balloon_profile;
 }
 

@@ -50,21 +50,23 @@ struct Touch {
     q: OnTube,
 }
 
-/// Every contact of the tube described by `rings` (base to tip), deepest
-/// point per contact, ordered along the tube.
-pub fn self_contacts(rings: &[Ring]) -> Vec<SelfContact> {
-    let centres: Vec<Point> = rings.iter().map(|r| r.centre).collect();
-    let s = cumulative_length(&centres);
-    let at = |p: OnTube| {
-        let (a, b) = (&rings[p.segment], &rings[p.segment + 1]);
-        let lerp = |x: f64, y: f64| x + p.t * (y - x);
-        (
-            lerp(s[p.segment], s[p.segment + 1]),
-            lerp(a.y, b.y),
-            lerp(a.radius, b.radius),
-        )
-    };
-    // The deepest overlap of every segment with any other far enough along.
+/// A point's arc length, material Y and radius along the tube of `rings`
+/// (`s`: the centres' cumulative length).
+fn along(rings: &[Ring], s: &[f64], p: OnTube) -> (f64, f64, f64) {
+    let (a, b) = (&rings[p.segment], &rings[p.segment + 1]);
+    let lerp = |x: f64, y: f64| x + p.t * (y - x);
+    (
+        lerp(s[p.segment], s[p.segment + 1]),
+        lerp(a.y, b.y),
+        lerp(a.radius, b.radius),
+    )
+}
+
+/// For every segment of the tube, its deepest overlap with any segment
+/// further along and far enough along not to be a bend, with `margin_mm`
+/// added to the sum of the radii (0: the surfaces themselves); none where
+/// the overlap is not above `floor_mm`.
+fn deepest_touches(rings: &[Ring], s: &[f64], margin_mm: f64, floor_mm: f64) -> Vec<Option<Touch>> {
     let mut deepest: Vec<Option<Touch>> = Vec::new();
     for i in 0..rings.len().saturating_sub(1) {
         let mut best: Option<Touch> = None;
@@ -74,15 +76,45 @@ pub fn self_contacts(rings: &[Ring]) -> Vec<SelfContact> {
                 [rings[j].centre, rings[j + 1].centre],
             );
             let (p, q) = (OnTube { segment: i, t: u }, OnTube { segment: j, t: v });
-            let ((sp, _, rp), (sq, _, rq)) = (at(p), at(q));
-            let overlap = rp + rq - distance;
+            let ((sp, _, rp), (sq, _, rq)) = (along(rings, s, p), along(rings, s, q));
+            let overlap = rp + rq + margin_mm - distance;
             let apart = sq - sp > std::f64::consts::FRAC_PI_2 * (rp + rq);
-            if apart && overlap > TOUCHING_MM && best.is_none_or(|b| overlap > b.overlap) {
+            if apart && overlap > floor_mm && best.is_none_or(|b| overlap > b.overlap) {
                 best = Some(Touch { overlap, p, q });
             }
         }
         deepest.push(best);
     }
+    deepest
+}
+
+/// How far each segment of a tube along `centres`, of radius `radii_mm` at
+/// each, comes within `margin_mm` of passing through another stretch of
+/// itself (mm, 0 where it keeps clear): one value per segment, the deepest,
+/// for a design that must keep clear of itself (the objective's and the
+/// refine's clearance). Continuous in the centres; the deepest partner may
+/// change.
+pub fn clearance_overlaps(centres: &[Point], radii_mm: &[f64], margin_mm: f64) -> Vec<f64> {
+    let rings: Vec<Ring> = (centres.iter().zip(radii_mm))
+        .map(|(&centre, &radius)| Ring {
+            y: 0.0,
+            centre,
+            radius,
+        })
+        .collect();
+    let s = cumulative_length(centres);
+    (deepest_touches(&rings, &s, margin_mm, 0.0).iter())
+        .map(|t| t.map_or(0.0, |t| t.overlap))
+        .collect()
+}
+
+/// Every contact of the tube described by `rings` (base to tip), deepest
+/// point per contact, ordered along the tube.
+pub fn self_contacts(rings: &[Ring]) -> Vec<SelfContact> {
+    let centres: Vec<Point> = rings.iter().map(|r| r.centre).collect();
+    let s = cumulative_length(&centres);
+    let at = |p: OnTube| along(rings, &s, p);
+    let deepest = deepest_touches(rings, &s, 0.0, TOUCHING_MM);
     // Consecutive segments in contact with one stretch make one contact
     // (the partner moving on by less than twice the radii between them);
     // its deepest point.
@@ -116,7 +148,7 @@ pub fn self_contacts(rings: &[Ring]) -> Vec<SelfContact> {
 /// The closest points of segments `a` and `b`: their parameters in [0, 1]
 /// and the distance between them (the clamped solution of the 2×2 normal
 /// equations; Ericson, Real-Time Collision Detection, §5.1.9).
-fn closest(a: [Point; 2], b: [Point; 2]) -> (f64, f64, f64) {
+pub(crate) fn closest(a: [Point; 2], b: [Point; 2]) -> (f64, f64, f64) {
     let (d1, d2, r) = (a[1] - a[0], b[1] - b[0], a[0] - b[0]);
     let (aa, ee, f) = (d1.dot(&d1), d2.dot(&d2), d2.dot(&r));
     let (c, bb) = (d1.dot(&r), d1.dot(&d2));
@@ -221,5 +253,40 @@ mod tests {
         let fat = self_contacts(&tube(600, 10.0, hairpin));
         assert_eq!(fat.len(), 1, "{fat:?}");
         assert!((fat[0].overlap_mm - 4.0).abs() < 0.1, "{fat:?}");
+    }
+
+    /// The clearance residuals: the tight helix's every segment between
+    /// turns is 4 mm through the next turn, 4.5 mm within a 0.5 mm margin;
+    /// the loose helix is clear even with the margin; and the overlaps
+    /// change continuously as the pitch opens (no jump where a segment
+    /// comes clear).
+    #[test]
+    fn clearance_overlaps_measure_every_segment_and_change_continuously() {
+        let centres = |pitch: f64| -> Vec<Point> {
+            let f = helix(30.0, pitch, 3.0);
+            (0..400).map(|i| f(i as f64 / 399.0)).collect()
+        };
+        let radii = [8.0; 400];
+        let tight = clearance_overlaps(&centres(12.0), &radii, 0.5);
+        assert_eq!(tight.len(), 399);
+        // The first two turns' segments have a turn after them.
+        let inner = &tight[..250];
+        assert!(inner.iter().all(|d| (d - 4.5).abs() < 0.2), "{inner:?}");
+        assert!(
+            clearance_overlaps(&centres(40.0), &radii, 0.5)
+                .iter()
+                .all(|&d| d == 0.0)
+        );
+        // Pitch 16.4–16.5 mm: the turns' surfaces 0.4–0.5 mm apart, within
+        // the 0.5 mm margin, the overlap falling evenly; 17.1 mm: clear.
+        let total = |pitch| {
+            clearance_overlaps(&centres(pitch), &radii, 0.5)
+                .iter()
+                .sum::<f64>()
+        };
+        let (a, b, c) = (total(16.4), total(16.45), total(16.5));
+        assert!(a > b && b > c && c > 0.0, "{a} {b} {c}");
+        assert!((a - b - (b - c)).abs() < 0.05 * (a - c), "{a} {b} {c}");
+        assert_eq!(total(17.1), 0.0);
     }
 }

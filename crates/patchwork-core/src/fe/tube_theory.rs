@@ -15,6 +15,7 @@
 
 use std::sync::Mutex;
 
+use crate::design::Design;
 use crate::material::Material;
 
 /// Uniform stretches of the bare tube.
@@ -96,6 +97,15 @@ static KNOWN: Mutex<Vec<(Material, u64, Option<TubeState>)>> = Mutex::new(Vec::n
 
 /// How many (material, load) states [`KNOWN`] keeps.
 const KNOWN_STATES: usize = 16;
+
+/// The inflated radius (mm, mid-wall) of `design`'s balloon without
+/// patches: the widest its tube inflates, patches only narrowing it; none if
+/// no rising branch reaches the design's pressure.
+pub fn bare_radius(design: &Design) -> Option<f64> {
+    let b = &design.balloon;
+    let state = inflate_tube(&b.material, design.pressure_mpa(), b.radius_mm, b.wall_mm)?;
+    Some(state.hoop * b.radius_mm)
+}
 
 /// The stable uniform state at pressure `pressure_mpa` of a tube with radius
 /// `r0` and wall `t0`, or `None` if no rising branch reaches that pressure.

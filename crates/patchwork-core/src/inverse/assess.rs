@@ -38,7 +38,8 @@ pub(super) fn verified(
     let (shape_error_mm, shape_error_percent) = shape_figures(&sim.centreline, &target.curve);
     let (curvature, torsion) = target.profiles_of(&sim.centreline, options);
     let metrics = Metrics {
-        objective: target.mismatch(&sim.centreline, &curvature, &torsion, options),
+        objective: target.mismatch(&sim.centreline, &curvature, &torsion, options)
+            + target.clearance_penalty(sim),
         dtw_curvature: dtw(&curvature, &target.curvature, None).unwrap_or(f64::INFINITY),
         dtw_torsion: dtw(&torsion, &target.torsion, None).unwrap_or(f64::INFINITY),
         shape_error_mm,

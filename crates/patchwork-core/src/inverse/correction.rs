@@ -95,7 +95,7 @@ pub(super) fn refine_corrected(
     let mut jacobian = None;
     for round in 0..CORRECTION_ROUNDS {
         // `best` is the design the verification model last stood at.
-        let Some(on_model) = problem.residuals(&coarse.centreline) else {
+        let Some(on_model) = problem.residuals_of(&coarse) else {
             break;
         };
         let correction = &best.residuals - on_model;
@@ -152,7 +152,7 @@ fn verify(
         return None;
     }
     let simulation = problem.caches.simulate_from(design, finer, warm).ok()?;
-    let residuals = problem.residuals(&simulation.centreline)?;
+    let residuals = problem.residuals_of(&simulation)?;
     Some(Verified {
         design: design.clone(),
         simulation,

@@ -9,6 +9,7 @@ use std::time::Duration;
 use super::assess::{as_given, verified};
 use super::caches::Caches;
 use super::checkpoint::DesignCheckpoint;
+use super::clearing::target_to_aim_at;
 use super::errors::DesignRunError;
 use super::input::prepare;
 use super::limits::at_limits;
@@ -47,8 +48,11 @@ pub fn design_resumable(
     let earlier_s = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
     let mut ctx = Context::new(cancel, caches, observer, earlier_s);
     let given = target;
-    let (target, input) = prepare(given, plan.settings().smoothing, plan.tuning().kappa_tol)
+    let (prepared, mut input) = prepare(given, plan.settings().smoothing, plan.tuning().kappa_tol)
         .map_err(DesignRunError::Input)?;
+    let plans = (plan.settings(), plan.tuning());
+    let (target, cleared) = target_to_aim_at(prepared, &input, plans, caches);
+    input.cleared = cleared;
     let setup = Setup::new(&target, input, plan.settings(), plan.tuning());
     let (evaluations, best) = resume
         .as_ref()

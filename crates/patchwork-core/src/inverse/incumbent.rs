@@ -111,7 +111,7 @@ pub(super) fn score(
     warm: Option<&Simulation>,
 ) -> (f64, Option<Simulation>) {
     match caches.simulate_from(design, model, warm) {
-        Ok(sim) => (profiles.objective(&sim.centreline, objective), Some(sim)),
+        Ok(sim) => (profiles.objective_of(&sim, objective), Some(sim)),
         Err(_) => (FAILED_SOLVE_PENALTY, None),
     }
 }

@@ -82,13 +82,21 @@ pub struct InputReport {
     /// design aimed at is the cubic spline through them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub interpolated: Option<Interpolated>,
+    /// Whether the design was kept clear of itself (tuning `keep_clear`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub keep_clear: bool,
+    /// Where a tube along the target would pass through itself and the
+    /// design was kept clear of itself: the design aimed at the nearest
+    /// clear curve ([`super::clearing`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cleared: Option<Cleared>,
 }
 
 impl InputReport {
     /// Whether the target the design aimed at differs from the points as
-    /// given: smoothed, or read through a spline.
+    /// given: smoothed, read through a spline, or cleared of itself.
     pub fn changed_target(&self) -> bool {
-        self.smoothing_mm > 0.0 || self.interpolated.is_some()
+        self.smoothing_mm > 0.0 || self.interpolated.is_some() || self.cleared.is_some()
     }
 
     /// Whether the points were too far apart to look for noise on them
@@ -97,6 +105,23 @@ impl InputReport {
         self.interpolated
             .is_some_and(|i| i.median_spacing_mm > SPARSE_SPACING_MM)
     }
+}
+
+/// What clearing the target of itself did ([`super::clearing`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Cleared {
+    /// The tube's radius it was cleared for (mm).
+    pub radius_mm: f64,
+    /// How far the tube along the target as given passed into itself at
+    /// the deepest (mm).
+    pub overlap_mm: f64,
+    /// How far the cleared curve lies from the target: at most and RMS
+    /// over its samples (mm).
+    pub moved_max_mm: f64,
+    pub moved_rms_mm: f64,
+    /// Whether every pair came clear within the rounds (otherwise the
+    /// design aims at the last round's curve, still closer than the tube).
+    pub converged: bool,
 }
 
 /// Sparse points read through a cubic spline ([`Curve::through`]).
@@ -165,6 +190,8 @@ pub fn prepare(
         planar: is_planar(&prepared, noise),
         planar_design: false,
         interpolated,
+        keep_clear: false,
+        cleared: None,
     };
     Ok((prepared, report))
 }

@@ -19,6 +19,7 @@
 mod assess;
 mod caches;
 mod checkpoint;
+pub mod clearing;
 mod correction;
 mod errors;
 mod evaluation_cache;

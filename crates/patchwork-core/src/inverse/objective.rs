@@ -6,11 +6,15 @@
 //! compared only where the target bends (κ* > `torsion_kappa_min`): where a
 //! curve is nearly straight its torsion is undefined and its estimate is noise.
 //! `squared` uses squared norms instead (the paper's other form); an optional
-//! shape-error term adds the aligned RMS distance as a fraction of the length.
+//! shape-error term adds the aligned RMS distance as a fraction of the length,
+//! and a design kept clear of itself the tube's overlaps with itself
+//! (`TargetProfiles::keep_clear`).
 
 use serde::{Deserialize, Serialize};
 
-use crate::curve::{AnalysisOptions, Curve, analyse, interpolate, shape_error};
+use crate::curve::{AnalysisOptions, Curve, Point, analyse, interpolate, shape_error};
+use crate::fe::Simulation;
+use crate::fe::contact::clearance_overlaps;
 
 /// The shape-error weight of the default objective.
 pub const DEFAULT_SHAPE_WEIGHT: f64 = 10.0;
@@ -80,7 +84,21 @@ pub struct TargetProfiles {
     pub torsion: Vec<f64>,
     pub torsion_mask: Vec<bool>,
     norm: f64,
+    /// Keep the inflated tube clear of itself: the objective and the
+    /// refine's residuals gain, for every segment of the centreline, how far
+    /// the tube (each ring's own radius) comes within
+    /// [`CLEARANCE_MARGIN_MM`] of another stretch of itself
+    /// ([`clearance_overlaps`]), times [`CLEARANCE_WEIGHT`]. The margin
+    /// leaves the surfaces apart where the penalty balances the shape's
+    /// pull; the weight makes 0.1 mm inside the margin cost as much as 1 %
+    /// of shape error.
+    pub keep_clear: bool,
 }
+
+/// How far apart (mm) a clear design keeps its surfaces.
+pub const CLEARANCE_MARGIN_MM: f64 = 0.5;
+/// Clearance residual per mm of overlap, in percent of shape error.
+pub const CLEARANCE_WEIGHT: f64 = 10.0;
 
 impl TargetProfiles {
     /// Samples the target at `samples` equal fractions of its length.
@@ -105,7 +123,35 @@ impl TargetProfiles {
             torsion,
             torsion_mask,
             norm: norm.max(1e-12),
+            keep_clear: false,
         }
+    }
+
+    /// Every segment's clearance residual (% of shape error, see
+    /// `keep_clear`) of the tube along `centres` with `radii_mm`; empty when
+    /// the tube need not keep clear.
+    pub fn clearance_residuals(&self, centres: &[Point], radii_mm: &[f64]) -> Vec<f64> {
+        if !self.keep_clear {
+            return Vec::new();
+        }
+        (clearance_overlaps(centres, radii_mm, CLEARANCE_MARGIN_MM).iter())
+            .map(|d| d * CLEARANCE_WEIGHT)
+            .collect()
+    }
+
+    /// What keeping clear adds to the objective of `simulation`: its
+    /// clearance residuals' norm, weighed as the default objective weighs
+    /// shape error; 0 when the tube need not keep clear.
+    pub fn clearance_penalty(&self, simulation: &Simulation) -> f64 {
+        let radii: Vec<f64> = simulation.rings.iter().map(|r| r.radius).collect();
+        let residuals = self.clearance_residuals(simulation.centreline.points(), &radii);
+        DEFAULT_SHAPE_WEIGHT * l2(&residuals) / 100.0
+    }
+
+    /// The objective of a simulated design: its centreline's, and its
+    /// clearance penalty when the tube must keep clear of itself.
+    pub fn objective_of(&self, simulation: &Simulation, options: &ObjectiveOptions) -> f64 {
+        self.objective(&simulation.centreline, options) + self.clearance_penalty(simulation)
     }
 
     /// κ and τ of a simulated centreline, smoothed like the target, at the same

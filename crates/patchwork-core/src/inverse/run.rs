@@ -195,12 +195,15 @@ impl<'a> Setup<'a> {
         tuning: &'a Tuning,
     ) -> Setup<'a> {
         input.planar_design = input.planar && tuning.planar_designs;
+        input.keep_clear = tuning.keep_clear;
+        let mut profiles = TargetProfiles::new(target, tuning.rings, &tuning.objective);
+        profiles.keep_clear = tuning.keep_clear;
         Setup {
             target,
             input,
             settings,
             tuning,
-            profiles: TargetProfiles::new(target, tuning.rings, &tuning.objective),
+            profiles,
             search_model: tuning.model(tuning.search_mesh),
             verify_model: tuning.model(tuning.verify_mesh),
         }

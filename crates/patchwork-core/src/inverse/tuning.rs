@@ -57,6 +57,12 @@ pub struct Tuning {
     /// After the design, its spread at the user's tolerances (a solve per
     /// patch quantity and three for the balloon, on the verified model).
     pub spread: bool,
+    /// Keep the inflated tube clear of itself: the refines weigh every
+    /// stretch of the tube that would pass through another (or come within
+    /// half a millimetre of it) against the shape error, so a knot or a
+    /// tight helix is designed as the balloon can inflate, at some cost in
+    /// shape error where the target itself is tighter than the tube.
+    pub keep_clear: bool,
     /// Evaluations of a CMA-ES polish on the verification model after the
     /// search (0 or 1: none). Not checkpointed: a resumed run repeats it.
     pub polish_budget: usize,
@@ -91,6 +97,7 @@ impl Default for Tuning {
             gentle_bends: false,
             planar_designs: false,
             spread: false,
+            keep_clear: false,
             polish_budget: 0,
             refine_budget: 0,
             correction_mesh: None,
@@ -196,6 +203,9 @@ pub struct TuningOverrides {
     /// false: no spread at the tolerances after the design.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub spread: Option<bool>,
+    /// true: the refines keep the tube clear of itself.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub keep_clear: Option<bool>,
     /// KSA's curvature tolerance (mm⁻¹): bends gentler than this get no patch.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kappa_tol: Option<f64>,
@@ -226,6 +236,7 @@ impl TuningOverrides {
         tuning.gentle_bends = self.gentle_bends.unwrap_or(tuning.gentle_bends);
         tuning.planar_designs = self.planar_designs.unwrap_or(tuning.planar_designs);
         tuning.spread = self.spread.unwrap_or(tuning.spread);
+        tuning.keep_clear = self.keep_clear.unwrap_or(tuning.keep_clear);
         tuning.kappa_tol = self.kappa_tol.unwrap_or(tuning.kappa_tol);
         if self.correction == Some(false) {
             tuning.correction_mesh = None;

@@ -93,18 +93,20 @@ pub(super) struct Refined {
 
 impl RefineProblem<'_> {
     /// The scaled aligned residuals of `centreline` against the target (|r|
-    /// is the shape error in %); none if it cannot be aligned.
-    pub fn residuals(&self, centreline: &Curve) -> Option<DVector<f64>> {
+    /// is the shape error in %), then, if the tube keeps clear of itself,
+    /// the clearance's of the tube of `radii_mm` along it
+    /// ([`TargetProfiles::clearance_residuals`]); none if it cannot be
+    /// aligned.
+    pub fn residuals(&self, centreline: &Curve, radii_mm: &[f64]) -> Option<DVector<f64>> {
         let aligned = AlignedSamples::new(centreline, &self.target.shape_samples).ok()?;
         let n = aligned.residuals.len() as f64;
         let scale = 100.0 / (self.target.curve.length() * n.sqrt());
-        let residuals = DVector::from_iterator(
-            3 * aligned.residuals.len(),
-            aligned
-                .residuals
-                .iter()
-                .flat_map(|p| p.iter().map(|c| c * scale)),
-        );
+        let shape = (aligned.residuals.iter()).flat_map(|p| p.iter().map(|c| c * scale));
+        let clear = self
+            .target
+            .clearance_residuals(centreline.points(), radii_mm);
+        let count = 3 * aligned.residuals.len() + clear.len();
+        let residuals = DVector::from_iterator(count, shape.chain(clear));
         residuals.norm().is_finite().then_some(residuals)
     }
 
@@ -115,6 +117,11 @@ impl RefineProblem<'_> {
     /// first Jacobian instead of a fresh one: a previous refine's last one
     /// ([`Refined::jacobian`], per unit of each variable), from a nearby
     /// design.
+    /// [`Self::residuals`] of a simulated design, its rings' radii its own.
+    pub fn residuals_of(&self, simulation: &Simulation) -> Option<DVector<f64>> {
+        self.residuals(&simulation.centreline, &radii(simulation))
+    }
+
     pub fn refine(
         &self,
         start: Design,
@@ -292,7 +299,7 @@ impl Residuals for ShapeResiduals<'_> {
     type State = Simulation;
 
     fn residuals(&self, simulation: &Simulation) -> Option<DVector<f64>> {
-        self.problem.residuals(&simulation.centreline)
+        self.problem.residuals_of(simulation)
     }
 
     fn solve(&self, u: &[f64], near: &Simulation) -> Option<Simulation> {
@@ -317,10 +324,13 @@ impl Residuals for ShapeResiduals<'_> {
         let centrelines =
             linearised_centrelines(&current, &at.state, model, &designs, threads, patterns)?;
         // The residuals without any correction, which differences cancel.
+        // The linearised tube keeps the state's radii.
         let here = self.residuals(&at.state)?;
+        let radii = radii(&at.state);
         let mut jacobian = DMatrix::zeros(at.residuals.len(), at.u.len());
         for (j, (centreline, h)) in centrelines.iter().zip(steps).enumerate() {
-            if let Some(r) = centreline.as_ref().and_then(|c| self.problem.residuals(c)) {
+            let residuals = |c: &Curve| self.problem.residuals(c, &radii);
+            if let Some(r) = centreline.as_ref().and_then(residuals) {
                 jacobian.set_column(j, &((r - &here) / h));
             }
         }
@@ -330,6 +340,11 @@ impl Residuals for ShapeResiduals<'_> {
     fn cancelled(&self) -> bool {
         self.problem.cancel.load(Ordering::Relaxed)
     }
+}
+
+/// The radius of each of `simulation`'s rings (mm).
+fn radii(simulation: &Simulation) -> Vec<f64> {
+    simulation.rings.iter().map(|r| r.radius).collect()
 }
 
 #[cfg(test)]

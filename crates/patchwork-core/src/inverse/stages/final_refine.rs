@@ -63,7 +63,7 @@ impl FinalRefine {
         let spent = run.state.evaluations;
         let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);
         let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
-            let best = profiles.objective(&simulation.centreline, objective);
+            let best = profiles.objective_of(simulation, objective);
             ctx.report(
                 StageName::FinalRefine,
                 iteration,

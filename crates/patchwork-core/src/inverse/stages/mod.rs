@@ -27,5 +27,6 @@ pub use reach::Reach;
 pub use refine::Refine;
 pub use search::Search;
 pub use seed::Seed;
+pub(super) use seed::seed_tube_radius;
 pub use spread::SpreadStage;
 pub use verify::Verify;

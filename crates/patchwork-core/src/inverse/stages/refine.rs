@@ -79,7 +79,7 @@ impl Refine {
         let before = run.state.evaluations + spent;
         let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);
         let mut on_progress = |iteration, evaluations, simulation: &Simulation| {
-            let best = profiles.objective(&simulation.centreline, objective);
+            let best = profiles.objective_of(simulation, objective);
             ctx.report(stage, iteration, before + evaluations, best, 0.0)
         };
         let refined = match self.correction {

@@ -91,6 +91,24 @@ impl Seed {
     }
 }
 
+/// How wide a design of the setup's target is likely to inflate: the 90th
+/// percentile of the radii of KSA's seed's rings on the search model (the
+/// widest stretches, bare ones included); none if the seed cannot be made
+/// or solved.
+pub(in crate::inverse) fn seed_tube_radius(setup: &Setup<'_>, caches: &Caches) -> Option<f64> {
+    let base = Design {
+        patches: vec![],
+        ..setup.settings.base.clone()
+    };
+    let seeded = seeded_balloon(base, setup.settings.fix_length, setup, caches).ok()?;
+    let simulation = caches
+        .simulate_from(&seeded, &setup.search_model, None)
+        .ok()?;
+    let mut radii: Vec<f64> = simulation.rings.iter().map(|r| r.radius).collect();
+    radii.sort_by(f64::total_cmp);
+    radii.get(radii.len() * 9 / 10).copied()
+}
+
 /// The free variables around the seed, and the bounds they come from: the
 /// user's around KSA's seed, the whole balloon for an unseeded start.
 fn design_space(

@@ -1,0 +1,255 @@
+//! A target tighter than the tube: where a tube of the inflated balloon's
+//! radius along the target would pass through itself (a helix whose pitch
+//! is less than the tube's diameter, a knot's ends meeting), no balloon
+//! follows it. A design kept clear of itself (tuning `keep_clear`) aims at
+//! the nearest curve that a tube can follow instead, found here, and its
+//! shape error is still measured against the curve as given.
+//!
+//! The method is position-based relaxation on the target's samples (about
+//! a quarter of the tube's radius apart): every pair of segments far enough
+//! apart along the curve (as in [`crate::fe::contact`]) that comes closer
+//! than the tube's diameter plus the margin is pushed apart along the line
+//! between their closest points, half the shortfall each, shared between a
+//! segment's ends by the closest point's position; the displacement from
+//! the target is then smoothed along the curve (so a push moves a stretch,
+//! not a point) and every segment restored to its length (the balloon does
+//! not stretch to clear itself). Repeated until no pair is within the
+//! diameter and the margin. A helix opens its pitch; a knot's ends part.
+
+use super::caches::Caches;
+use super::input::{Cleared, InputReport};
+use super::objective::CLEARANCE_MARGIN_MM;
+use super::run::Setup;
+use super::settings::UserSettings;
+use super::stages::seed_tube_radius;
+use super::tuning::Tuning;
+use crate::curve::{Curve, Point, cumulative_length};
+use crate::fe::contact::closest;
+use crate::fe::tube_theory::bare_radius;
+
+/// Relaxation rounds at most; a round costs one pass over the pairs.
+const ROUNDS: usize = 400;
+/// Samples per tube radius along the curve.
+const SAMPLES_PER_RADIUS: f64 = 4.0;
+/// Smoothing passes of the displacement per round (each a [¼ ½ ¼] filter).
+const SMOOTHING_PASSES: usize = 2;
+/// Each push is this much more than half the shortfall: the smoothing and
+/// the lengths' restoring take some of it back.
+const OVER_RELAXATION: f64 = 1.5;
+/// Passes restoring the segments' lengths per round.
+const LENGTH_PASSES: usize = 4;
+/// Cleared when no pair is closer than the diameter and margin by more
+/// than this (mm).
+const CLEAR_MM: f64 = 0.01;
+
+/// The target a design aims at under `tuning`: `target` itself, or, for a
+/// design kept clear of itself whose tube along `target` would pass
+/// through itself, the nearest clear curve and what clearing it did. The
+/// tube's radius is not known before the design: patches narrow it (a
+/// stretch under patches inflates to about two thirds of the bare tube's
+/// radius), so the target is cleared for the radius KSA's seed inflates to
+/// (the 90th percentile of its rings), and the objective keeps the design's
+/// own rings clear.
+pub(super) fn target_to_aim_at(
+    target: Curve,
+    input: &InputReport,
+    (settings, tuning): (&UserSettings, &Tuning),
+    caches: &Caches,
+) -> (Curve, Option<Cleared>) {
+    let Some(bare) = bare_radius(&settings.base).filter(|_| tuning.keep_clear) else {
+        return (target, None);
+    };
+    // Clear even for the widest tube: nothing to do.
+    if clear_of_itself(&target, bare, 0.0).is_none() {
+        return (target, None);
+    }
+    let setup = Setup::new(&target, *input, settings, tuning);
+    let radius = seed_tube_radius(&setup, caches).unwrap_or(bare);
+    match clear_of_itself(&target, radius, CLEARANCE_MARGIN_MM) {
+        Some((cleared, report)) => (cleared, Some(report)),
+        None => (target, None),
+    }
+}
+
+/// The nearest curve to `target` along which a tube of `radius_mm` keeps
+/// `margin_mm` clear of itself, and what was done; none when the tube
+/// along the target itself does not pass through itself.
+pub fn clear_of_itself(target: &Curve, radius_mm: f64, margin_mm: f64) -> Option<(Curve, Cleared)> {
+    let count =
+        ((target.length() * SAMPLES_PER_RADIUS / radius_mm).ceil() as usize).clamp(50, 2000);
+    let start = target.resample(count).ok()?;
+    let origin: Vec<Point> = start.points().to_vec();
+    let s = cumulative_length(&origin);
+    let apart = std::f64::consts::PI * radius_mm;
+    let overlap_mm = deepest(&origin, &s, 2.0 * radius_mm, apart);
+    if overlap_mm <= CLEAR_MM {
+        return None;
+    }
+    // Pushed towards twice the margin, cleared once every pair keeps the
+    // margin: the last tenths of a millimetre converge slowly where the
+    // smoothing and the lengths pull back.
+    let reach = 2.0 * radius_mm + 2.0 * margin_mm;
+    let lengths: Vec<f64> = origin.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
+    let mut x = origin.clone();
+    let mut converged = false;
+    for _ in 0..ROUNDS {
+        let (pushes, worst) = pushes(&x, &s, reach, apart);
+        if worst <= margin_mm + CLEAR_MM {
+            converged = true;
+            break;
+        }
+        for (p, d) in x.iter_mut().zip(&pushes) {
+            *p += d;
+        }
+        smooth_displacement(&mut x, &origin);
+        restore_lengths(&mut x, &lengths);
+    }
+    let moved: Vec<f64> = x.iter().zip(&origin).map(|(a, b)| (a - b).norm()).collect();
+    let cleared = Cleared {
+        radius_mm,
+        overlap_mm,
+        moved_max_mm: moved.iter().copied().fold(0.0, f64::max),
+        moved_rms_mm: (moved.iter().map(|m| m * m).sum::<f64>() / moved.len() as f64).sqrt(),
+        converged,
+    };
+    Some((Curve::from_points(x).ok()?, cleared))
+}
+
+/// The pairs of segments of `x` (arc lengths `s` along the target) more
+/// than `apart` from each other along it, with their closest points and
+/// distance, where that distance is below `reach`.
+fn close_pairs(
+    x: &[Point],
+    s: &[f64],
+    reach: f64,
+    apart: f64,
+) -> Vec<(usize, usize, f64, f64, f64)> {
+    let mut pairs = Vec::new();
+    for i in 0..x.len() - 1 {
+        for j in i + 1..x.len() - 1 {
+            if s[j] - s[i + 1] <= apart {
+                continue;
+            }
+            let (u, v, d) = closest([x[i], x[i + 1]], [x[j], x[j + 1]]);
+            if d < reach {
+                pairs.push((i, j, u, v, d));
+            }
+        }
+    }
+    pairs
+}
+
+/// How far the deepest pair comes within `reach` (mm; 0 if none does).
+fn deepest(x: &[Point], s: &[f64], reach: f64, apart: f64) -> f64 {
+    (close_pairs(x, s, reach, apart).iter())
+        .map(|&(.., d)| reach - d)
+        .fold(0.0, f64::max)
+}
+
+/// Every point's push out of the pairs closer than `reach`, averaged over
+/// the pairs that push it, and how far the deepest pair comes within it.
+fn pushes(x: &[Point], s: &[f64], reach: f64, apart: f64) -> (Vec<Point>, f64) {
+    let mut sum = vec![Point::zeros(); x.len()];
+    let mut weight = vec![0.0; x.len()];
+    let mut worst: f64 = 0.0;
+    for (i, j, u, v, d) in close_pairs(x, s, reach, apart) {
+        let (p, q) = (x[i] + (x[i + 1] - x[i]) * u, x[j] + (x[j + 1] - x[j]) * v);
+        // Coincident closest points: any direction across the first segment.
+        let normal = match d > 1e-9 {
+            true => (p - q) / d,
+            false => any_normal(x[i + 1] - x[i]),
+        };
+        let half = OVER_RELAXATION * 0.5 * (reach - d);
+        worst = worst.max(reach - d);
+        for (k, share, sign) in [
+            (i, 1.0 - u, 1.0),
+            (i + 1, u, 1.0),
+            (j, 1.0 - v, -1.0),
+            (j + 1, v, -1.0),
+        ] {
+            sum[k] += normal * (sign * half * share);
+            weight[k] += share;
+        }
+    }
+    let pushes = (sum.iter().zip(&weight))
+        .map(|(p, w)| if *w > 0.0 { p / w.max(1.0) } else { *p })
+        .collect();
+    (pushes, worst)
+}
+
+/// A unit vector perpendicular to `d`.
+fn any_normal(d: Point) -> Point {
+    let axis = match d.x.abs() < 0.9 * d.norm() {
+        true => Point::x(),
+        false => Point::y(),
+    };
+    d.cross(&axis).try_normalize(1e-12).unwrap_or(Point::z())
+}
+
+/// Smooths `x`'s displacement from `origin` along the curve, the ends
+/// mirrored (an end moves as its neighbours do).
+fn smooth_displacement(x: &mut [Point], origin: &[Point]) {
+    let n = x.len();
+    let mut d: Vec<Point> = x.iter().zip(origin).map(|(a, b)| a - b).collect();
+    for _ in 0..SMOOTHING_PASSES {
+        let previous = d.clone();
+        for k in 0..n {
+            let (a, b) = (previous[k.saturating_sub(1)], previous[(k + 1).min(n - 1)]);
+            d[k] = 0.25 * a + 0.5 * previous[k] + 0.25 * b;
+        }
+    }
+    for ((p, o), d) in x.iter_mut().zip(origin).zip(&d) {
+        *p = o + d;
+    }
+}
+
+/// Brings every segment of `x` back towards its length in `lengths`,
+/// both ends moving half the difference (Gauss–Seidel passes).
+fn restore_lengths(x: &mut [Point], lengths: &[f64]) {
+    for _ in 0..LENGTH_PASSES {
+        for (k, &length) in lengths.iter().enumerate() {
+            let d = x[k + 1] - x[k];
+            let now = d.norm();
+            if now > 1e-12 {
+                let fix = d * (0.5 * (now - length) / now);
+                x[k] += fix;
+                x[k + 1] -= fix;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::TAU;
+
+    fn helix(radius: f64, pitch: f64, turns: f64) -> Curve {
+        let points = (0..800)
+            .map(|i| {
+                let a = TAU * turns * i as f64 / 799.0;
+                Point::new(radius * a.cos(), radius * a.sin(), pitch * a / TAU)
+            })
+            .collect();
+        Curve::from_points(points).unwrap()
+    }
+
+    /// A helix of pitch 10 mm on a tube of radius 12 mm (turns 14 mm into
+    /// each other) opens to a pitch of at least the diameter and margin,
+    /// keeps its length within 1 %, and a tube along it is clear; a helix
+    /// already clear is left as it is.
+    #[test]
+    fn a_tight_helix_opens_until_its_turns_clear() {
+        let target = helix(25.0, 10.0, 2.0);
+        let (cleared, report) = clear_of_itself(&target, 12.0, 0.5).expect("needs clearing");
+        assert!(report.converged, "{report:?}");
+        assert!((report.overlap_mm - 14.0).abs() < 0.5, "{report:?}");
+        assert!((cleared.length() / target.length() - 1.0).abs() < 0.01);
+        let overlaps = crate::fe::contact::clearance_overlaps(cleared.points(), &[12.0; 2000], 0.0);
+        assert!(overlaps.iter().all(|&d| d == 0.0), "{overlaps:?}");
+        let z = cleared.points().last().unwrap().z - cleared.points()[0].z;
+        assert!(z > 2.0 * 24.5 * 0.9, "two turns rise {z} mm");
+        assert!(report.moved_max_mm < 40.0, "{report:?}");
+        assert!(clear_of_itself(&helix(25.0, 30.0, 2.0), 12.0, 0.5).is_none());
+    }
+}
