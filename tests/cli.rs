@@ -750,7 +750,8 @@ fn arc_curve(dir: &std::path::Path) -> std::path::PathBuf {
 
 /// Fine runs draft's corrected refine (at most 60 solves), then its final
 /// refine on the uniform 0.5 mm mesh with the rest of `--refine`; the
-/// summary names both and design.json's metrics are the final refine's.
+/// summary names both and design.json's metrics are the final refine's;
+/// its spread is checked by Monte-Carlo.
 #[test]
 fn fine_reports_its_final_refine() {
     let scratch = temp_dir("fine");
@@ -767,7 +768,7 @@ fn fine_reports_its_final_refine() {
         "--budget",
         "20",
         "--tuning",
-        r#"{"refine_budget": 75}"#,
+        r#"{"refine_budget": 75, "monte_carlo": 12}"#,
         "--threads",
         "2",
     ]);
@@ -792,6 +793,11 @@ fn fine_reports_its_final_refine() {
         (verified - after).abs() < 1e-9,
         "{verified} against {after}"
     );
+    // Fine checks the spread by Monte-Carlo (here 12 designs, not 200).
+    let sampled = &report["spread"]["monte_carlo"];
+    assert_eq!(sampled["samples"], 12, "{sampled}");
+    assert!(sampled["rms_mm"].as_f64().unwrap() > 0.0, "{sampled}");
+    assert!(text.contains("\nMonte-Carlo:  12 samples"), "{text}");
 }
 
 #[test]

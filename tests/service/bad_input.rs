@@ -134,6 +134,10 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "tuning.correction",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "tuning": {"monte_carlo": 1_000_000}}),
+            "tuning.monte_carlo",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "options": {"fidelity": "ultra"}}),
             "options.fidelity",
         ),

@@ -70,8 +70,21 @@ function spread(result) {
     `${c.label} ±${c.tolerance}${c.unit === "°" ? "" : " "}${c.unit}: ${num(c.rms_mm, 3)} mm RMS, tip ${num(c.tip_mm, 3)} mm`);
   return [
     ["spread at the tolerances", `${num(s.rms_mm, 3)} mm RMS (${num(s.rms_percent, 3)} % of the length), at worst ${num(s.worst_mm, 3)} mm; tip ${num(s.tip_rms_mm, 3)} mm RMS${expected}`],
+    ...monteCarlo(s.monte_carlo),
     ["matters most", top.join("; ")],
   ];
+}
+
+// The Monte-Carlo check of the spread, where the run made one (fine's
+// preset, or tuning.monte_carlo): sampled against linear, and whether they
+// agree within 20 %.
+function monteCarlo(m) {
+  if (!m) return [];
+  const verdict = m.agrees ? "agrees"
+    : "differs by more than 20 %: the response is not linear at these tolerances, the sampled figure holds";
+  const failed = m.failed ? `; ${m.failed} samples did not solve` : "";
+  return [["Monte-Carlo check",
+    `${m.samples} designs (seed ${m.seed}): ${num(m.rms_mm, 3)} mm RMS, tip ${num(m.tip_rms_mm, 3)} mm; ${num(m.ratio, 3)} ± ${num(m.ratio_sigma, 2)} × the linear estimate: ${verdict}${failed}`]];
 }
 
 // The patches among the three largest sources of spread (numbered from 1).

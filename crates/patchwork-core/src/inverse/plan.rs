@@ -73,8 +73,12 @@ impl Stage {
                 "{} solves with the refine's, on the {} model",
                 f.shared_solves, f.refine.mesh
             )),
-            Stage::Spread(_) => Some(format!(
-                "{SOURCES_PER_PATCH} solves per patch and 3, at the tolerances"
+            Stage::Spread(s) => Some(format!(
+                "{SOURCES_PER_PATCH} solves per patch and 3, at the tolerances{}",
+                match s.monte_carlo {
+                    0 => String::new(),
+                    n => format!("; a Monte-Carlo check of {n} designs"),
+                }
             )),
             Stage::Reach(_) | Stage::Verify(_) | Stage::Length(_) => None,
         }
@@ -245,7 +249,9 @@ fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<Stage> {
         }));
     }
     if tuning.spread {
-        stages.push(Stage::Spread(SpreadStage));
+        stages.push(Stage::Spread(SpreadStage {
+            monte_carlo: tuning.monte_carlo,
+        }));
     }
     stages
 }
@@ -253,6 +259,9 @@ fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<Stage> {
 /// The finest uniform search mesh an expert may ask for (mm); the refine
 /// and verification use half of it.
 pub const MIN_UNIFORM_MESH_MM: f64 = 0.1;
+
+/// The most designs a Monte-Carlo check of the spread may draw.
+pub const MAX_MONTE_CARLO: usize = 5000;
 
 /// The overrides' own ranges, before they are laid over a preset.
 fn check_overrides(overrides: &TuningOverrides) -> Result<(), SettingsError> {
@@ -262,6 +271,14 @@ fn check_overrides(overrides: &TuningOverrides) -> Result<(), SettingsError> {
         return Err(SettingsError::new(
             "tuning.uniform_mesh_mm",
             format!("must be at least {MIN_UNIFORM_MESH_MM} mm, got {mesh_mm}"),
+        ));
+    }
+    if let Some(samples) = overrides.monte_carlo
+        && samples > MAX_MONTE_CARLO
+    {
+        return Err(SettingsError::new(
+            "tuning.monte_carlo",
+            format!("must be at most {MAX_MONTE_CARLO} designs, got {samples}"),
         ));
     }
     if let Some(kappa_tol) = overrides.kappa_tol
@@ -395,5 +412,8 @@ mod tests {
             assert!(budgets.contains(&part), "{part:?} not in {budgets:?}");
         }
         assert!(budgets.ends_with("at the tolerances"), "{budgets}");
+        let fine = plan(Fidelity::Fine, TuningOverrides::default());
+        let checked = "at the tolerances; a Monte-Carlo check of 200 designs";
+        assert!(fine.describe_budgets().ends_with(checked));
     }
 }

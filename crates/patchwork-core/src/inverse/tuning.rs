@@ -57,6 +57,9 @@ pub struct Tuning {
     /// After the design, its spread at the user's tolerances (a solve per
     /// patch quantity and three for the balloon, on the verified model).
     pub spread: bool,
+    /// Designs the spread stage draws at the tolerances and solves in full
+    /// to check its linear estimate (`crate::spread::monte_carlo`; 0: none).
+    pub monte_carlo: usize,
     /// Keep the inflated tube clear of itself: the refines weigh every
     /// stretch of the tube that would pass through another (or come within
     /// half a millimetre of it) against the shape error, so a knot or a
@@ -97,6 +100,7 @@ impl Default for Tuning {
             gentle_bends: false,
             planar_designs: false,
             spread: false,
+            monte_carlo: 0,
             keep_clear: false,
             polish_budget: 0,
             refine_budget: 0,
@@ -203,6 +207,9 @@ pub struct TuningOverrides {
     /// false: no spread at the tolerances after the design.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub spread: Option<bool>,
+    /// Samples of the Monte-Carlo check of the spread (0: none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub monte_carlo: Option<usize>,
     /// true: the refines keep the tube clear of itself.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub keep_clear: Option<bool>,
@@ -228,6 +235,7 @@ impl TuningOverrides {
         set(&mut tuning.search_patience, self.search_patience);
         set(&mut tuning.polish_budget, self.polish_budget);
         set(&mut tuning.refine_budget, self.refine_budget);
+        set(&mut tuning.monte_carlo, self.monte_carlo);
         tuning.initial_step = self.initial_step.unwrap_or(tuning.initial_step);
         tuning.start = self.start.unwrap_or(tuning.start);
         tuning.warm_starts = self.warm_starts.unwrap_or(tuning.warm_starts);

@@ -16,6 +16,8 @@
 //! - expected shape error against the target: √(e₀² + spread²), e₀ the
 //!   nominal's (the changes have mean zero to first order).
 
+use std::sync::atomic::AtomicBool;
+
 use super::answer::{Contributor, Spread};
 use super::change::{Nominal, SAMPLES, change_of};
 use super::monte_carlo::monte_carlo;
@@ -94,7 +96,9 @@ pub fn linear_spread(
     let mut spread = spread_of(&nominal, &against, tolerances, threads)?;
     spread.solves += 1;
     if let Some(Check { samples, seed }) = check {
-        let sampled = monte_carlo(&nominal, &spread, tolerances, samples, seed, threads);
+        let never = AtomicBool::new(false);
+        let draw = (samples, seed);
+        let sampled = monte_carlo(&nominal, &spread, tolerances, draw, threads, &never);
         spread.solves += samples;
         spread.monte_carlo = Some(sampled);
     }

@@ -12,6 +12,8 @@
 //! beyond `AGREEMENT` says the response is not linear there and the
 //! sampled figure is the one to trust.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use super::answer::{MonteCarlo, Spread};
 use super::change::{Nominal, SAMPLES, change_of};
 use super::sources::Source;
@@ -28,13 +30,15 @@ pub const AGREEMENT: f64 = 0.2;
 
 /// Draws `samples` designs about `nominal` at `tolerances` (seed `seed`),
 /// solves them on up to `threads` threads and compares them with `linear`.
+/// Once `cancel` is set no further design is solved (the caller, which
+/// set it, discards the answer).
 pub fn monte_carlo(
     nominal: &Nominal,
     linear: &Spread,
     tolerances: &Tolerances,
-    samples: usize,
-    seed: u64,
+    (samples, seed): (usize, u64),
     threads: usize,
+    cancel: &AtomicBool,
 ) -> MonteCarlo {
     let sources = Source::all(nominal.design, tolerances);
     let mut rng = SeededRng::new(seed);
@@ -48,6 +52,9 @@ pub fn monte_carlo(
     let patterns = PatternCache::default();
     let reference = nominal.simulation.centreline.resample(SAMPLES).ok();
     let changes = map_in_threads(&designs, threads, &|design| {
+        if cancel.load(Ordering::Relaxed) {
+            return None;
+        }
         let reference = reference.as_ref()?;
         let moved =
             simulate_with(design, nominal.options, Some(nominal.simulation), &patterns).ok()?;

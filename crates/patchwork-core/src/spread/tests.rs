@@ -117,7 +117,14 @@ fn the_monte_carlo_check_agrees_with_the_linear_spread_of_a_smooth_source() {
     };
     let against = Against::target(&simulation, None).unwrap();
     let linear = spread_of(&nominal, &against, &wall_only, 4).unwrap();
-    let check = monte_carlo(&nominal, &linear, &wall_only, 100, 7, 4);
+    let check = monte_carlo(
+        &nominal,
+        &linear,
+        &wall_only,
+        (100, 7),
+        4,
+        &Default::default(),
+    );
     eprintln!(
         "wall ±5 %: linear {:.3} mm, sampled {:.3} mm (ratio {:.3} ± {:.3}), tip {:.2} / {:.2} mm",
         linear.rms_mm,

@@ -5,15 +5,21 @@
 //! of states, which the verification model resolves as well as the finer
 //! ones that correct and verify a design's shape, at a third of their
 //! solve's cost. A spread that cannot be found (a solve fails) leaves the
-//! design as it is and says why.
+//! design as it is and says why. With `monte_carlo` designs (fine's
+//! preset), the linear estimate is then checked by sampling
+//! (`crate::spread::monte_carlo`), on the same model, in parallel.
 
 use super::super::errors::DesignRunError;
 use super::super::run::{Context, Run};
-use crate::spread::{Against, Nominal, spread_of};
+use crate::spread::{Against, Nominal, monte_carlo, spread_of};
 
-/// Its solves: `SOURCES_PER_PATCH` per patch and three for the balloon.
+/// Its solves: `SOURCES_PER_PATCH` per patch and three for the balloon,
+/// and the Monte-Carlo check's designs.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SpreadStage;
+pub struct SpreadStage {
+    /// Designs of the Monte-Carlo check (0: none).
+    pub monte_carlo: usize,
+}
 
 impl SpreadStage {
     pub(in super::super) fn run(
@@ -58,8 +64,17 @@ impl SpreadStage {
             nominal_shape_error_percent: None,
         };
         let settings = run.setup.settings;
-        match spread_of(&nominal, &against, &settings.tolerances, settings.threads) {
-            Ok(spread) => {
+        let (tolerances, threads) = (&settings.tolerances, settings.threads);
+        match spread_of(&nominal, &against, tolerances, threads) {
+            Ok(mut spread) => {
+                if self.monte_carlo > 0 {
+                    let draw = (self.monte_carlo, settings.seed);
+                    let sampled =
+                        monte_carlo(&nominal, &spread, tolerances, draw, threads, ctx.cancel);
+                    ctx.check_cancelled()?;
+                    spread.solves += self.monte_carlo;
+                    spread.monte_carlo = Some(sampled);
+                }
                 run.state.evaluations += spread.solves;
                 run.spread = Some(spread);
             }
