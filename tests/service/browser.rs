@@ -142,6 +142,15 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
         spread.contains("mm RMS") && spread.contains("expected shape error as built"),
         "{spread}"
     );
+    // ... and draws it as a band around the predicted centreline.
+    let band = page
+        .execute(
+            "return [window.patchwork.view.has('design-band'), \
+             window.patchwork.result.spread.band_mm.length]",
+            json!([]),
+        )
+        .await;
+    assert_eq!(band, json!([true, 64]), "the spread's band");
     let most = page.text("[data-fact='matters most']").await;
     assert!(most.contains("mm RMS, tip"), "{most}");
     let marked = page

@@ -124,6 +124,10 @@ export async function showResult(page, jobId, result, preview) {
     page.resultFit = { percent: fit.percent, server: m.shape_error_percent };
     page.view.curve("design", result.centreline_mm.map(fit.apply), {
       colour: "#1f6feb", label: "designed balloon, inflated (centreline)", radius: page.tubeRadius * 0.8 });
+    // The spread at the tolerances as a band around it (RMS, after the best
+    // rigid alignment, as the spread is measured).
+    page.view.band("design-band", result.centreline_mm.map(fit.apply), result.spread?.band_mm, {
+      colour: "#1f6feb", label: "spread at the tolerances (RMS band)" });
     page.view.fit();
   }
   const designed = [

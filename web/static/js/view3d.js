@@ -78,6 +78,42 @@ export class View3D {
     this.set(name, new THREE.Mesh(geometry, material), label, colour);
   }
 
+  /**
+   * A translucent tube along `points` whose radius at each fraction of its
+   * length is `radii` (mm, equally spaced fractions from the first point to
+   * the last, linear between): a band of uncertainty around a centreline.
+   */
+  band(name, points, radii, { colour, label, opacity = 0.25 }) {
+    if (!points || points.length < 2 || !radii?.length) return this.set(name, null);
+    const path = new THREE.CatmullRomCurve3(points.map((p) => new THREE.Vector3(...p)));
+    const segments = Math.min(2000, points.length * 3);
+    const radial = 16;
+    const geometry = new THREE.TubeGeometry(path, segments, 1, radial, false);
+    const at = (u) => {
+      const x = u * (radii.length - 1);
+      const i = Math.min(Math.floor(x), radii.length - 2);
+      return radii.length === 1 ? radii[0] : radii[i] + (x - i) * (radii[i + 1] - radii[i]);
+    };
+    // TubeGeometry puts ring i's vertices at unit distance from
+    // path.getPointAt(i / segments): scale each ring to its radius.
+    const position = geometry.attributes.position;
+    const centre = new THREE.Vector3();
+    const vertex = new THREE.Vector3();
+    for (let i = 0; i <= segments; i++) {
+      path.getPointAt(i / segments, centre);
+      const r = Math.max(at(i / segments), 1e-3);
+      for (let j = 0; j <= radial; j++) {
+        const k = i * (radial + 1) + j;
+        vertex.fromBufferAttribute(position, k).sub(centre).multiplyScalar(r).add(centre);
+        position.setXYZ(k, vertex.x, vertex.y, vertex.z);
+      }
+    }
+    geometry.computeVertexNormals();
+    const material = new THREE.MeshStandardMaterial({ color: colour, roughness: 0.8,
+      transparent: true, opacity, depthWrite: false, side: THREE.DoubleSide });
+    this.set(name, new THREE.Mesh(geometry, material), label, colour);
+  }
+
   /** Points as small dots. */
   dots(name, points, { colour, label, size }) {
     const geometry = new THREE.BufferGeometry();

@@ -70,6 +70,12 @@ pub struct Spread {
     /// The Monte-Carlo check, where one was asked for.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub monte_carlo: Option<MonteCarlo>,
+    /// The band along the centreline: at each of `SAMPLES` equal fractions
+    /// of its length from the base, the RMS distance (mm) the point moves
+    /// over every source (in quadrature, after the best rigid alignment, as
+    /// `rms_mm` is measured: its mean square is `rms_mm`²).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub band_mm: Vec<f64>,
 }
 
 impl Spread {

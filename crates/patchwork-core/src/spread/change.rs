@@ -10,7 +10,9 @@ pub const SAMPLES: usize = 64;
 
 /// One source's change: the centreline's samples (mm, aligned) and the tip.
 pub struct Change {
+    /// Σ|dᵢ|² over the samples (mm²), and each |dᵢ|².
     pub samples_sq: f64,
+    pub each_sq: Vec<f64>,
     pub tip_mm: f64,
 }
 
@@ -26,13 +28,14 @@ pub struct Nominal<'a> {
 /// after the best rigid alignment, and the tip's move unaligned.
 pub fn change_of(moved: &Curve, nominal: &Curve, samples: &Curve) -> Result<Change, String> {
     let aligned = AlignedSamples::new(moved, samples).map_err(|e| e.to_string())?;
-    let samples_sq = aligned.residuals.iter().map(|r| r.norm_squared()).sum();
+    let each_sq: Vec<f64> = aligned.residuals.iter().map(|r| r.norm_squared()).collect();
     let tip = |c: &Curve| c.points().last().copied();
     let (Some(moved), Some(home)) = (tip(moved), tip(nominal)) else {
         return Err("no centreline".into());
     };
     Ok(Change {
-        samples_sq,
+        samples_sq: each_sq.iter().sum(),
+        each_sq,
         tip_mm: (moved - home).norm(),
     })
 }

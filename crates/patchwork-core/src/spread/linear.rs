@@ -133,11 +133,15 @@ pub fn spread_of(
             })
     });
     let mut contributors = Vec::with_capacity(sources.len());
+    let mut band_sq = vec![0.0; SAMPLES];
     for (source, change) in sources.into_iter().zip(changes) {
         let change = change.map_err(|reason| SpreadError::Moved {
             label: source.label(),
             reason,
         })?;
+        for (sum, d) in band_sq.iter_mut().zip(&change.each_sq) {
+            *sum += d;
+        }
         let (tolerance, unit) = source.tolerance(tolerances);
         contributors.push(Contributor {
             source,
@@ -149,7 +153,9 @@ pub fn spread_of(
         });
     }
     contributors.sort_by(|a, b| b.rms_mm.total_cmp(&a.rms_mm));
-    Ok(summary(contributors, against))
+    let mut spread = summary(contributors, against);
+    spread.band_mm = band_sq.iter().map(|d| d.sqrt()).collect();
+    Ok(spread)
 }
 
 /// The sources' shares added up.
@@ -176,5 +182,6 @@ fn summary(contributors: Vec<Contributor>, against: &Against) -> Spread {
         solves: contributors.len(),
         contributors,
         monte_carlo: None,
+        band_mm: Vec::new(),
     }
 }

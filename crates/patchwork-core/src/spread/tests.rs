@@ -60,6 +60,14 @@ fn the_critical_patch_is_ranked_first_and_the_sums_hold() {
     assert!((spread.rms_mm - quadrature).abs() < 1e-12);
     assert!(spread.worst_mm >= spread.rms_mm);
     assert!(spread.tip_worst_mm >= spread.tip_rms_mm && spread.tip_rms_mm > 0.0);
+    // The band along the centreline: its mean square is the spread's.
+    let band = &spread.band_mm;
+    assert_eq!(band.len(), 64);
+    let mean_sq = band.iter().map(|b| b * b).sum::<f64>() / band.len() as f64;
+    assert!(
+        (mean_sq.sqrt() / spread.rms_mm - 1.0).abs() < 1e-9,
+        "{band:?}"
+    );
     assert!(
         spread.largest(3)[0].starts_with("P1 "),
         "{:?}",
