@@ -143,6 +143,9 @@ impl TargetProfiles {
     /// clearance residuals' norm, weighed as the default objective weighs
     /// shape error; 0 when the tube need not keep clear.
     pub fn clearance_penalty(&self, simulation: &Simulation) -> f64 {
+        if !self.keep_clear {
+            return 0.0;
+        }
         let radii: Vec<f64> = simulation.rings.iter().map(|r| r.radius).collect();
         let residuals = self.clearance_residuals(simulation.centreline.points(), &radii);
         DEFAULT_SHAPE_WEIGHT * l2(&residuals) / 100.0
