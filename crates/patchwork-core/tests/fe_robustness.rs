@@ -17,6 +17,9 @@ fn uniform(rng: &mut SeededRng, lo: f64, hi: f64) -> f64 {
 /// KSA seeds of the Hilbert reference curve (DESIGN.md), mm.
 const SEED_Y: [f64; 6] = [43.3, 87.9, 128.2, 163.9, 204.8, 248.8];
 
+/// Random designs solved.
+const CASES: usize = 200;
+
 #[test]
 fn every_random_design_within_the_bounds_converges_to_a_stable_state() {
     let mut rng = SeededRng::new(20231121);
@@ -28,48 +31,76 @@ fn every_random_design_within_the_bounds_converges_to_a_stable_state() {
         ..SimulateOptions::default()
     };
     let circumference = std::f64::consts::TAU * 3.18;
-    let mut iterations = Vec::new();
-    let mut factorisations = 0;
+    let designs: Vec<Design> = (0..CASES)
+        .map(|_| {
+            let patches = SEED_Y
+                .iter()
+                .map(|&y| Patch {
+                    x_mm: uniform(&mut rng, 0.0, circumference),
+                    y_mm: y + uniform(&mut rng, -5.0, 5.0),
+                    h_mm: uniform(&mut rng, 10.0, 30.0),
+                    w_mm: uniform(&mut rng, 1.0, 3.0),
+                    theta_deg: uniform(&mut rng, -45.0, 45.0),
+                })
+                .collect();
+            Design::reference(patches)
+        })
+        .collect();
     let started = std::time::Instant::now();
-    for case in 0..200 {
-        let patches = SEED_Y
-            .iter()
-            .map(|&y| Patch {
-                x_mm: uniform(&mut rng, 0.0, circumference),
-                y_mm: y + uniform(&mut rng, -5.0, 5.0),
-                h_mm: uniform(&mut rng, 10.0, 30.0),
-                w_mm: uniform(&mut rng, 1.0, 3.0),
-                theta_deg: uniform(&mut rng, -45.0, 45.0),
+    // The cases on every core (the test binary has no other test to run
+    // beside it); each checked where it was solved.
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
+    let solved: Vec<(usize, usize)> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|t| {
+                let (designs, options) = (&designs, &options);
+                scope.spawn(move || {
+                    (t..CASES)
+                        .step_by(threads)
+                        .map(|case| checked(case, &designs[case], options))
+                        .collect::<Vec<_>>()
+                })
             })
             .collect();
-        match simulate(&Design::reference(patches), &options) {
-            Ok(sim) => {
-                iterations.push(sim.stats.iterations);
-                factorisations += sim.stats.factorisations;
-                assert!(sim.stats.stable, "case {case}: not a stable state");
-                assert!(
-                    sim.centreline
-                        .points()
-                        .iter()
-                        .all(|p| p.iter().all(|v| v.is_finite()))
-                );
-                assert!(
-                    sim.curvature
-                        .iter()
-                        .chain(&sim.torsion)
-                        .all(|v| v.is_finite())
-                );
-                assert!(sim.inflated_length_mm.is_finite() && sim.inflated_length_mm > 292.0);
-            }
-            Err(e) => panic!("case {case}: {e}"),
-        }
-    }
+        (workers.into_iter())
+            .flat_map(|w| w.join().expect("a worker panicked: see its case above"))
+            .collect()
+    });
+    let mut iterations: Vec<usize> = solved.iter().map(|s| s.0).collect();
+    let factorisations: usize = solved.iter().map(|s| s.1).sum();
     iterations.sort_unstable();
     println!(
-        "robustness: 200/200 converged and stable; Newton iterations median {} max {} total {}; {factorisations} factorisations; {:.1} s",
+        "robustness: {CASES}/{CASES} converged and stable; Newton iterations median {} max {} total {}; {factorisations} factorisations; {:.1} s on {threads} threads",
         iterations.get(iterations.len() / 2).copied().unwrap_or(0),
         iterations.last().copied().unwrap_or(0),
         iterations.iter().sum::<usize>(),
         started.elapsed().as_secs_f64()
     );
+}
+
+/// Solves `design` (case `case`) and checks its state: converged, stable,
+/// finite, inflated; its Newton iterations and factorisations.
+fn checked(case: usize, design: &Design, options: &SimulateOptions) -> (usize, usize) {
+    let sim = simulate(design, options).unwrap_or_else(|e| panic!("case {case}: {e}"));
+    assert!(sim.stats.stable, "case {case}: not a stable state");
+    assert!(
+        sim.centreline
+            .points()
+            .iter()
+            .all(|p| p.iter().all(|v| v.is_finite())),
+        "case {case}: a centreline point is not finite"
+    );
+    assert!(
+        sim.curvature
+            .iter()
+            .chain(&sim.torsion)
+            .all(|v| v.is_finite()),
+        "case {case}: κ or τ not finite"
+    );
+    assert!(
+        sim.inflated_length_mm.is_finite() && sim.inflated_length_mm > 292.0,
+        "case {case}: inflated {} mm",
+        sim.inflated_length_mm
+    );
+    (sim.stats.iterations, sim.stats.factorisations)
 }
