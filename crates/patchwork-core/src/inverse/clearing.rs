@@ -66,8 +66,8 @@ pub(super) fn target_to_aim_at(
     let Some(bare) = bare_radius(&settings.base).filter(|_| tuning.keep_clear) else {
         return (target, None);
     };
-    // Clear even for the widest tube: nothing to do.
-    if clear_of_itself(&target, bare, 0.0).is_none() {
+    // Clear even for the widest tube: nothing to do (and no seed solve).
+    if overlap_along(&target, bare).is_none() {
         return (target, None);
     }
     let setup = Setup::new(&target, *input, settings, tuning);
@@ -82,16 +82,10 @@ pub(super) fn target_to_aim_at(
 /// `margin_mm` clear of itself, and what was done; none when the tube
 /// along the target itself does not pass through itself.
 pub fn clear_of_itself(target: &Curve, radius_mm: f64, margin_mm: f64) -> Option<(Curve, Cleared)> {
-    let count =
-        ((target.length() * SAMPLES_PER_RADIUS / radius_mm).ceil() as usize).clamp(50, 2000);
-    let start = target.resample(count).ok()?;
-    let origin: Vec<Point> = start.points().to_vec();
+    let (origin, overlap_mm) = overlap_along(target, radius_mm)?;
     let s = cumulative_length(&origin);
     let apart = std::f64::consts::PI * radius_mm;
-    let overlap_mm = deepest(&origin, &s, 2.0 * radius_mm, apart);
-    if overlap_mm <= CLEAR_MM {
-        return None;
-    }
+    let count = origin.len();
     // Pushed towards twice the margin, cleared once every pair keeps the
     // margin: the last tenths of a millimetre converge slowly where the
     // smoothing and the lengths pull back.
@@ -132,8 +126,25 @@ pub fn clear_of_itself(target: &Curve, radius_mm: f64, margin_mm: f64) -> Option
     // Read through a cubic spline about 1 mm apart: the relaxed samples,
     // a quarter of the radius apart, would otherwise reach the design as
     // a polyline, bending only at its corners.
-    let samples = (start.length().ceil() as usize).clamp(count, Curve::MAX_POINTS);
+    let samples = (target.length().ceil() as usize).clamp(count, Curve::MAX_POINTS);
     Some((Curve::through(&x, samples).ok()?, cleared))
+}
+
+/// `target` sampled a quarter of `radius_mm` apart, and how far a tube of
+/// that radius along it passes into itself at the deepest (mm); none where
+/// it keeps clear.
+fn overlap_along(target: &Curve, radius_mm: f64) -> Option<(Vec<Point>, f64)> {
+    let count =
+        ((target.length() * SAMPLES_PER_RADIUS / radius_mm).ceil() as usize).clamp(50, 2000);
+    let origin = target.resample(count).ok()?.points().to_vec();
+    let s = cumulative_length(&origin);
+    let overlap_mm = deepest(
+        &origin,
+        &s,
+        2.0 * radius_mm,
+        std::f64::consts::PI * radius_mm,
+    );
+    (overlap_mm > CLEAR_MM).then_some((origin, overlap_mm))
 }
 
 /// The pairs of segments of `x` (arc lengths `s` along the target) more
