@@ -115,6 +115,11 @@ pub struct Simulation {
 }
 
 impl Simulation {
+    /// Each ring's radius (mm), base to tip.
+    pub fn radii(&self) -> Vec<f64> {
+        self.rings.iter().map(|r| r.radius).collect()
+    }
+
     /// How far the cap's pole (the mesh's last node) lies past the last
     /// ring's centre along the centreline's end (mm): the inflated cap's
     /// height, which a scan's centreline is cut by.

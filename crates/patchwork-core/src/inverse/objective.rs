@@ -146,8 +146,8 @@ impl TargetProfiles {
         if !self.keep_clear {
             return 0.0;
         }
-        let radii: Vec<f64> = simulation.rings.iter().map(|r| r.radius).collect();
-        let residuals = self.clearance_residuals(simulation.centreline.points(), &radii);
+        let residuals =
+            self.clearance_residuals(simulation.centreline.points(), &simulation.radii());
         DEFAULT_SHAPE_WEIGHT * l2(&residuals) / 100.0
     }
 

@@ -112,7 +112,7 @@ impl DesignReport {
                 .iter()
                 .map(|p| [p.x, p.y, p.z])
                 .collect(),
-            centreline_radius_mm: outcome.simulation.rings.iter().map(|r| r.radius).collect(),
+            centreline_radius_mm: outcome.simulation.radii(),
             cap_height_mm: outcome.simulation.cap_height(),
             target_mm: outcome
                 .given

@@ -110,6 +110,11 @@ impl RefineProblem<'_> {
         residuals.norm().is_finite().then_some(residuals)
     }
 
+    /// [`Self::residuals`] of a simulated design, its rings' radii its own.
+    pub fn residuals_of(&self, simulation: &Simulation) -> Option<DVector<f64>> {
+        self.residuals(&simulation.centreline, &simulation.radii())
+    }
+
     /// Refines `start` (simulated on this problem's model as `simulation`)
     /// with at most `budget` further solves; `on_progress(iteration,
     /// evaluations, simulation)` hears every Jacobian and every accepted
@@ -117,11 +122,6 @@ impl RefineProblem<'_> {
     /// first Jacobian instead of a fresh one: a previous refine's last one
     /// ([`Refined::jacobian`], per unit of each variable), from a nearby
     /// design.
-    /// [`Self::residuals`] of a simulated design, its rings' radii its own.
-    pub fn residuals_of(&self, simulation: &Simulation) -> Option<DVector<f64>> {
-        self.residuals(&simulation.centreline, &radii(simulation))
-    }
-
     pub fn refine(
         &self,
         start: Design,
@@ -326,7 +326,7 @@ impl Residuals for ShapeResiduals<'_> {
         // The residuals without any correction, which differences cancel.
         // The linearised tube keeps the state's radii.
         let here = self.residuals(&at.state)?;
-        let radii = radii(&at.state);
+        let radii = at.state.radii();
         let mut jacobian = DMatrix::zeros(at.residuals.len(), at.u.len());
         for (j, (centreline, h)) in centrelines.iter().zip(steps).enumerate() {
             let residuals = |c: &Curve| self.problem.residuals(c, &radii);
@@ -340,11 +340,6 @@ impl Residuals for ShapeResiduals<'_> {
     fn cancelled(&self) -> bool {
         self.problem.cancel.load(Ordering::Relaxed)
     }
-}
-
-/// The radius of each of `simulation`'s rings (mm).
-fn radii(simulation: &Simulation) -> Vec<f64> {
-    simulation.rings.iter().map(|r| r.radius).collect()
 }
 
 #[cfg(test)]

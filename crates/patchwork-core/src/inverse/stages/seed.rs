@@ -104,7 +104,7 @@ pub(in crate::inverse) fn seed_tube_radius(setup: &Setup<'_>, caches: &Caches) -
     let simulation = caches
         .simulate_from(&seeded, &setup.search_model, None)
         .ok()?;
-    let mut radii: Vec<f64> = simulation.rings.iter().map(|r| r.radius).collect();
+    let mut radii = simulation.radii();
     radii.sort_by(f64::total_cmp);
     radii.get(radii.len() * 9 / 10).copied()
 }
