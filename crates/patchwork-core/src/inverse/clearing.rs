@@ -126,7 +126,8 @@ pub fn clear_of_itself(target: &Curve, radius_mm: f64, margin_mm: f64) -> Option
     // Read through a cubic spline about 1 mm apart: the relaxed samples,
     // a quarter of the radius apart, would otherwise reach the design as
     // a polyline, bending only at its corners.
-    let samples = (target.length().ceil() as usize).clamp(count, Curve::MAX_POINTS);
+    let length = s[count - 1];
+    let samples = (length.ceil() as usize).clamp(count, Curve::MAX_POINTS);
     Some((Curve::through(&x, samples).ok()?, cleared))
 }
 
