@@ -200,15 +200,32 @@ impl Session {
         }
     }
 
+    /// The element `css` selects, waiting for it to exist and be shown:
+    /// a route's form is in the page before the route shows it.
+    pub async fn find_shown(&self, css: &str) -> String {
+        let started = Instant::now();
+        loop {
+            let element = self.find(css).await;
+            let shown = self
+                .try_command("GET", &format!("/element/{element}/displayed"), json!({}))
+                .await;
+            if shown == Ok(Value::Bool(true)) {
+                return element;
+            }
+            assert!(started.elapsed() < PATIENCE, "{css} is never shown");
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+    }
+
     pub async fn click(&self, css: &str) {
-        let element = self.find(css).await;
+        let element = self.find_shown(css).await;
         self.command("POST", &format!("/element/{element}/click"), json!({}))
             .await;
     }
 
     /// Types `text` into `css` (for a file input: the file's path).
     pub async fn type_into(&self, css: &str, text: &str) {
-        let element = self.find(css).await;
+        let element = self.find_shown(css).await;
         self.command("POST", &format!("/element/{element}/clear"), json!({}))
             .await;
         self.command(
