@@ -6,7 +6,7 @@ use patchwork_core::fe::contact::SelfContact;
 use patchwork_core::inverse::layout::LayoutTrial;
 use patchwork_core::inverse::reach::ReachReport;
 use patchwork_core::inverse::shortfall::HIGH_ERROR_PERCENT;
-use patchwork_core::inverse::{DesignReport, InputReport, RefineSummary};
+use patchwork_core::inverse::{DesignReport, Expected, InputReport, RefineSummary};
 
 use super::output::patch_table;
 use super::spread_summary::summary as summary_of_spread;
@@ -166,11 +166,41 @@ fn shortfall_line(r: &DesignReport) -> String {
 /// The spread at the run's tolerances and its three largest sources, or why
 /// there is none.
 fn spread_lines(r: &DesignReport) -> String {
-    match (&r.spread, &r.spread_failed) {
+    let spread = match (&r.spread, &r.spread_failed) {
         (Some(spread), _) => summary_of_spread(spread, 3),
         (None, Some(why)) => format!("spread:       not found: {why}\n"),
         (None, None) => String::new(),
-    }
+    };
+    spread + &robust_lines(r)
+}
+
+/// What the robust refine did: both designs' figures and which stands.
+fn robust_lines(r: &DesignReport) -> String {
+    let Some(robust) = &r.robust else {
+        return match &r.robust_skipped {
+            Some(why) => format!("robust:       not run: {why}\n"),
+            None => String::new(),
+        };
+    };
+    let figures = |e: &Expected| {
+        format!(
+            "{:.2} % as designed, spread {:.2} %, {:.2} % expected",
+            e.shape_error_percent, e.spread_percent, e.expected_percent
+        )
+    };
+    let verdict = match robust.kept {
+        true => "kept: the robust design is the one above",
+        false => "not kept: the nominal design stands (its expected error is no higher)",
+    };
+    format!(
+        "robust:       weighing {}; {verdict}\n\
+         \x20             nominal design {}\n\
+         \x20             robust design  {}; {} FE solves\n",
+        robust.sources.join(", "),
+        figures(&robust.nominal_design),
+        figures(&robust.robust_design),
+        robust.solves
+    )
 }
 
 /// Where the predicted tube passes through itself, a line each, and how to

@@ -138,6 +138,10 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "tuning.monte_carlo",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "tuning": {"robust": true, "spread": false}}),
+            "tuning.robust",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "options": {"fidelity": "ultra"}}),
             "options.fidelity",
         ),

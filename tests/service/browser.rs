@@ -79,8 +79,9 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
 
     page.select("#fidelity", "draft").await;
     page.type_into("#budget", budget).await;
-    // Kept clear of itself: the form's box reaches the run.
+    // Kept clear of itself and robust: the form's boxes reach the run.
     page.click("#keep-clear").await;
+    page.click("#robust").await;
     page.click("#submit").await;
     page.wait_text("#job-heading", "the job's view", |t| t.starts_with("Job "))
         .await;
@@ -153,6 +154,12 @@ async fn a_csv_file_becomes_a_downloaded_dxf() {
     assert_eq!(band, json!([true, 64]), "the spread's band");
     let most = page.text("[data-fact='matters most']").await;
     assert!(most.contains("mm RMS, tip"), "{most}");
+    // The robust refine's two designs, and which stands.
+    let robust = page.text("[data-fact='robust design']").await;
+    assert!(
+        robust.contains("nominal design") && robust.contains("% expected"),
+        "{robust}"
+    );
     let marked = page
         .execute(
             "return [document.querySelectorAll('#patch-table tr.sensitive').length, \

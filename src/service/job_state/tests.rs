@@ -138,7 +138,7 @@ fn the_api_document_and_the_web_app_know_every_stage() {
                 .to_string()
         })
         .collect();
-    assert_eq!(names.last().map(String::as_str), Some("spread"));
+    assert_eq!(names.last().map(String::as_str), Some("robust"));
     names.push("calibrate".into());
     let openapi = include_str!("../../../openapi.yaml");
     let schema = &openapi[openapi.find("    Stage:").expect("Stage schema")..];

@@ -72,7 +72,19 @@ function spread(result) {
     ["spread at the tolerances", `${num(s.rms_mm, 3)} mm RMS (${num(s.rms_percent, 3)} % of the length), at worst ${num(s.worst_mm, 3)} mm; tip ${num(s.tip_rms_mm, 3)} mm RMS${expected}`],
     ...monteCarlo(s.monte_carlo),
     ["matters most", top.join("; ")],
+    ...robust(result),
   ];
+}
+
+// The robust refine (tuning.robust): both designs' figures and which stands.
+function robust(result) {
+  const r = result.robust;
+  if (!r) return result.robust_skipped ? [["robust design", `not run: ${result.robust_skipped}`]] : [];
+  const figures = (e) =>
+    `${num(e.shape_error_percent, 3)} % as designed, spread ${num(e.spread_percent, 3)} %, ${num(e.expected_percent, 3)} % expected`;
+  const verdict = r.kept ? "kept: the design shown is the robust one" : "not kept: the nominal design stands";
+  return [["robust design",
+    `weighing ${r.sources.join(", ")}: nominal design ${figures(r.nominal_design)}; robust design ${figures(r.robust_design)}; ${verdict}`]];
 }
 
 // The Monte-Carlo check of the spread, where the run made one (fine's

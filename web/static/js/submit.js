@@ -63,6 +63,7 @@ export function jobRequest(curveSpec) {
   const profile = $("#balloon-profile").value;
   if (profile) request.balloon_profile = profile;
   if ($("#keep-clear").checked) put(request, ["tuning", "keep_clear"], true);
+  if ($("#robust").checked) put(request, ["tuning", "robust"], true);
   return request;
 }
 
@@ -76,6 +77,7 @@ export function fillForm(request) {
     $(id).value = material ? JSON.stringify(material) : "";
   }
   $("#keep-clear").checked = request.tuning?.keep_clear === true;
+  $("#robust").checked = request.tuning?.robust === true;
   return request.balloon_profile;
 }
 

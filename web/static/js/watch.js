@@ -23,6 +23,7 @@ const STAGES = {
   layout: "layout: patches added where the curve bends gently, or taken out",
   final_refine: "final refine: the refine on the finest model",
   spread: "spread: the design at the tolerances, a solve per source",
+  robust: "robust: the design refined for the error expected at the tolerances",
   calibrate: "calibrate: the material fitted to the measurements",
 };
 

@@ -93,6 +93,9 @@ fn outcome(
         at_limits: &at_limits,
         budget_spent: run.termination == SearchEnd::Optimizer(Termination::MaxEvaluations),
         layouts: &run.layouts,
+        robust_from_percent: (run.robust.as_ref())
+            .filter(|r| r.kept)
+            .map(|r| r.nominal_design.shape_error_percent),
     });
     let spread = run
         .spread
@@ -127,6 +130,8 @@ fn outcome(
         shortfalls,
         spread,
         spread_failed: run.spread_failed,
+        robust: run.robust,
+        robust_skipped: run.robust_skipped,
         elapsed: Duration::from_secs_f64(ctx.elapsed_s()),
     })
 }

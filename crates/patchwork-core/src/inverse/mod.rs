@@ -53,8 +53,8 @@ pub use input::{InputReport, Smoothing};
 pub use limits::AtLimit;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use outcome::{
-    AsGiven, DesignOutcome, DesignProgress, Metrics, Profiles, RefineSummary, SearchEnd,
-    SearchStop, StageName,
+    AsGiven, DesignOutcome, DesignProgress, Expected, Metrics, Profiles, RefineSummary,
+    RobustSummary, SearchEnd, SearchStop, StageName,
 };
 pub use plan::{Plan, Stage};
 pub use presets::{Fidelity, PRESETS, PresetRow};

@@ -42,11 +42,13 @@ pub enum StageName {
     FinalRefine,
     /// The verified design at the tolerances, source by source.
     Spread,
+    /// The design refined for the shape error expected at the tolerances.
+    Robust,
 }
 
 impl StageName {
     /// Every stage, in the order a plan takes them.
-    pub const ALL: [StageName; 10] = [
+    pub const ALL: [StageName; 11] = [
         StageName::Seed,
         StageName::Reach,
         StageName::Search,
@@ -57,6 +59,7 @@ impl StageName {
         StageName::Layout,
         StageName::FinalRefine,
         StageName::Spread,
+        StageName::Robust,
     ];
 
     /// As written in plans and progress lines: `final refine`.
@@ -72,6 +75,7 @@ impl StageName {
             StageName::Layout => "layout",
             StageName::FinalRefine => "final refine",
             StageName::Spread => "spread",
+            StageName::Robust => "robust",
         }
     }
 }
@@ -237,5 +241,51 @@ pub struct DesignOutcome {
     /// failed (`spread_failed` says why).
     pub spread: Option<Spread>,
     pub spread_failed: Option<String>,
+    /// What the robust refine did (tuning `robust`), whether or not its
+    /// design was kept; none when it did not run (`robust_skipped` says why
+    /// where it was planned).
+    pub robust: Option<RobustSummary>,
+    pub robust_skipped: Option<String>,
     pub elapsed: Duration,
+}
+
+/// What the robust refine did: the design the nominal refine found and the
+/// robust refine's, each verified on the run's model against the curve the
+/// design aims at, with its spread over every source.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RobustSummary {
+    /// The sources it weighed, the spread's largest ("pressure", "P3 angle").
+    pub sources: Vec<String>,
+    pub nominal_design: Expected,
+    pub robust_design: Expected,
+    /// Whether the robust design replaced the nominal one: its expected
+    /// shape error is lower.
+    pub kept: bool,
+    /// The expected shape error over the weighed sources only, on the
+    /// refine's model (its objective), at its start and its end (%).
+    pub weighed_before_percent: f64,
+    pub weighed_after_percent: f64,
+    pub iterations: usize,
+    /// FE solves: the refine's, its result's verification and spread.
+    pub solves: usize,
+}
+
+/// A design's shape error as designed, its spread at the tolerances, and
+/// the shape error expected as built: √(nominal² + spread²), all in % of
+/// the target's length.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Expected {
+    pub shape_error_percent: f64,
+    pub spread_percent: f64,
+    pub expected_percent: f64,
+}
+
+impl Expected {
+    /// These figures with the expected error from the other two.
+    pub fn with_expected(self) -> Expected {
+        Expected {
+            expected_percent: self.shape_error_percent.hypot(self.spread_percent),
+            ..self
+        }
+    }
 }

@@ -8,6 +8,7 @@
 //! ```text
 //! seed → reach → search → polish → verify → length → refine (± correction)
 //!      → layout (a finer layout, refined alike) → final refine → spread
+//!      → robust
 //! ```
 
 use super::errors::DesignRunError;
@@ -17,8 +18,8 @@ use super::outcome::StageName;
 use super::run::{Context, Run};
 use super::settings::UserSettings;
 use super::stages::{
-    FinalRefine, Layout, Length, MAX_LAYOUTS, Polish, Reach, Refine, Search, Seed, SpreadStage,
-    Verify,
+    FinalRefine, Layout, Length, MAX_LAYOUTS, MAX_SOURCES, Polish, Reach, Refine, RobustStage,
+    Search, Seed, SpreadStage, Verify,
 };
 use super::tuning::{Tuning, TuningOverrides};
 use crate::spread::SOURCES_PER_PATCH;
@@ -35,6 +36,7 @@ pub enum Stage {
     Layout(Layout),
     FinalRefine(FinalRefine),
     Spread(SpreadStage),
+    Robust(RobustStage),
 }
 
 impl Stage {
@@ -49,6 +51,7 @@ impl Stage {
             Stage::Layout(_) => StageName::Layout,
             Stage::FinalRefine(_) => StageName::FinalRefine,
             Stage::Spread(_) => StageName::Spread,
+            Stage::Robust(_) => StageName::Robust,
         }
     }
 
@@ -80,6 +83,14 @@ impl Stage {
                     n => format!("; a Monte-Carlo check of {n} designs"),
                 }
             )),
+            Stage::Robust(r) => Some(format!(
+                "{} solves, weighing the spread's {MAX_SOURCES} largest sources at most{}",
+                r.solves,
+                match r.monte_carlo {
+                    0 => String::new(),
+                    n => format!("; a Monte-Carlo check of {n} designs"),
+                }
+            )),
             Stage::Reach(_) | Stage::Verify(_) | Stage::Length(_) => None,
         }
     }
@@ -100,6 +111,7 @@ impl Stage {
             Stage::Layout(stage) => stage.run(run, ctx),
             Stage::FinalRefine(stage) => stage.run(run, ctx),
             Stage::Spread(stage) => stage.run(run, ctx),
+            Stage::Robust(stage) => stage.run(run, ctx),
         }
     }
 }
@@ -248,8 +260,17 @@ fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<Stage> {
             shared_solves: tuning.refine_budget,
         }));
     }
+    // The Monte-Carlo check is of the design that stands: after the
+    // robust refine where there is one.
+    let robust = tuning.spread && tuning.robust_budget > 0;
     if tuning.spread {
         stages.push(Stage::Spread(SpreadStage {
+            monte_carlo: if robust { 0 } else { tuning.monte_carlo },
+        }));
+    }
+    if robust {
+        stages.push(Stage::Robust(RobustStage {
+            solves: tuning.robust_budget,
             monte_carlo: tuning.monte_carlo,
         }));
     }
@@ -305,6 +326,12 @@ fn check(
     }
     .validate()
     .map_err(|e| SettingsError::new(format!("design.{}", e.field), e.reason))?;
+    if tuning.robust_budget > 0 && !tuning.spread {
+        return Err(SettingsError::new(
+            "tuning.robust",
+            "weighs the spread's sources: it needs the spread (tuning.spread is false)",
+        ));
+    }
     if settings.budget == Some(0) {
         return Err(SettingsError::new("budget", "must be at least 1"));
     }
@@ -415,5 +442,22 @@ mod tests {
         let fine = plan(Fidelity::Fine, TuningOverrides::default());
         let checked = "at the tolerances; a Monte-Carlo check of 200 designs";
         assert!(fine.describe_budgets().ends_with(checked));
+        // The robust refine follows the spread, and the check is of the
+        // design that stands: after it.
+        let robust = TuningOverrides {
+            robust: Some(true),
+            ..TuningOverrides::default()
+        };
+        let budgets = plan(Fidelity::Fine, robust.clone()).describe_budgets();
+        let robust_part = "robust: 200 solves, weighing the spread's 4 largest sources at most; \
+                           a Monte-Carlo check of 200 designs";
+        assert!(budgets.ends_with(robust_part), "{budgets}");
+        assert!(budgets.contains("at the tolerances; robust"), "{budgets}");
+        let unspread = TuningOverrides {
+            spread: Some(false),
+            ..robust
+        };
+        let refused = Plan::resolve(UserSettings::default(), &unspread).unwrap_err();
+        assert_eq!(refused.field, "tuning.robust");
     }
 }

@@ -6,7 +6,9 @@ use serde::{Deserialize, Serialize};
 use super::input::InputReport;
 use super::layout::LayoutTrial;
 use super::limits::AtLimit;
-use super::outcome::{AsGiven, DesignOutcome, Metrics, Profiles, RefineSummary, SearchEnd};
+use super::outcome::{
+    AsGiven, DesignOutcome, Metrics, Profiles, RefineSummary, RobustSummary, SearchEnd,
+};
 use super::reach::ReachReport;
 use super::shortfall::Explained;
 use crate::design::Design;
@@ -99,6 +101,14 @@ pub struct DesignReport {
     /// Why the spread could not be found, when it could not.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spread_failed: Option<String>,
+    /// The robust refine's figures (tuning `robust`): the nominal and the
+    /// robust design's shape error, spread and expected error, and which
+    /// was kept; absent when the run had none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub robust: Option<RobustSummary>,
+    /// Why a planned robust refine did not run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub robust_skipped: Option<String>,
 }
 
 impl DesignReport {
@@ -144,6 +154,8 @@ impl DesignReport {
             self_contact: self_contacts(&outcome.simulation.rings),
             spread: outcome.spread.clone(),
             spread_failed: outcome.spread_failed.clone(),
+            robust: outcome.robust.clone(),
+            robust_skipped: outcome.robust_skipped.clone(),
         }
     }
 }

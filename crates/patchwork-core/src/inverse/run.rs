@@ -13,7 +13,7 @@ use super::errors::DesignRunError;
 use super::input::InputReport;
 use super::layout::LayoutTrial;
 use super::objective::TargetProfiles;
-use super::outcome::{DesignProgress, RefineSummary, SearchEnd, StageName};
+use super::outcome::{DesignProgress, RefineSummary, RobustSummary, SearchEnd, StageName};
 use super::planar::flattened;
 use super::reach::ReachReport;
 use super::settings::UserSettings;
@@ -246,6 +246,9 @@ pub struct Run<'a> {
     /// The spread stage's answer, or why it has none.
     pub spread: Option<Spread>,
     pub spread_failed: Option<String>,
+    /// The robust stage's summary, or why it did not run.
+    pub robust: Option<RobustSummary>,
+    pub robust_skipped: Option<String>,
 }
 
 impl<'a> Run<'a> {
@@ -275,6 +278,8 @@ impl<'a> Run<'a> {
             layouts: Vec::new(),
             spread: None,
             spread_failed: None,
+            robust: None,
+            robust_skipped: None,
         }
     }
 

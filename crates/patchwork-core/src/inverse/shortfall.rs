@@ -31,6 +31,9 @@ pub enum Shortfall {
     LayoutsExhausted { tried: usize },
     /// The design has no patch: no layout marked a bend on the target.
     NoPatches,
+    /// The robust refine traded shape error for a smaller spread
+    /// (`robust`): the nominal design's shape error was `nominal_percent`.
+    Robust { nominal_percent: f64 },
     /// None of the above: the search settled in a local optimum.
     Settled,
 }
@@ -53,6 +56,9 @@ impl Shortfall {
                 format!("the {tried} layouts tried reached no lower")
             }
             Shortfall::NoPatches => "no layout marked a bend for a patch".into(),
+            Shortfall::Robust { nominal_percent } => format!(
+                "the robust design trades shape error for a smaller spread (the nominal design's was {nominal_percent:.2} %; see robust)"
+            ),
             Shortfall::Settled => {
                 "the search settled in a local optimum (another seed may do better)".into()
             }
@@ -87,6 +93,8 @@ pub struct RunFacts<'a> {
     /// The search ended on its evaluation budget.
     pub budget_spent: bool,
     pub layouts: &'a [LayoutTrial],
+    /// The nominal design's shape error, where a robust design replaced it.
+    pub robust_from_percent: Option<f64>,
 }
 
 /// The causes of a shape error above `HIGH_ERROR_PERCENT`, most telling
@@ -96,6 +104,13 @@ pub fn shortfalls(run: &RunFacts<'_>) -> Vec<Shortfall> {
         return vec![];
     }
     let mut causes = Vec::new();
+    if let Some(nominal) = run.robust_from_percent
+        && nominal < run.shape_error_percent
+    {
+        causes.push(Shortfall::Robust {
+            nominal_percent: nominal,
+        });
+    }
     if let Some(reach) = run.reach.filter(|r| !r.reachable()) {
         causes.push(Shortfall::OutOfReach {
             stretches: reach.out_of_reach.len(),
@@ -138,6 +153,7 @@ mod tests {
             at_limits: &[],
             budget_spent,
             layouts: &[],
+            robust_from_percent: None,
         }
     }
 

@@ -11,6 +11,10 @@ use crate::fe::SimulateOptions;
 use crate::fe::mesh::MeshSpec;
 use crate::fe::newton::NewtonOptions;
 
+/// The robust refine's solves when a request asks for it: about 40
+/// evaluations of the design and its four largest sources' copies.
+pub const ROBUST_SOLVES: usize = 200;
+
 /// Default initial CMA-ES step in the unit cube.
 pub const INITIAL_STEP: f64 = 0.2;
 
@@ -66,6 +70,10 @@ pub struct Tuning {
     /// tight helix is designed as the balloon can inflate, at some cost in
     /// shape error where the target itself is tighter than the tube.
     pub keep_clear: bool,
+    /// Solves of the robust refine after the spread (0: none): the design
+    /// refined for the shape error expected at the tolerances
+    /// (`stages::robust`), kept if that is lower than the nominal design's.
+    pub robust_budget: usize,
     /// Evaluations of a CMA-ES polish on the verification model after the
     /// search (0 or 1: none). Not checkpointed: a resumed run repeats it.
     pub polish_budget: usize,
@@ -102,6 +110,7 @@ impl Default for Tuning {
             spread: false,
             monte_carlo: 0,
             keep_clear: false,
+            robust_budget: 0,
             polish_budget: 0,
             refine_budget: 0,
             correction_mesh: None,
@@ -213,6 +222,10 @@ pub struct TuningOverrides {
     /// true: the refines keep the tube clear of itself.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub keep_clear: Option<bool>,
+    /// true: after the spread, the design refined for the shape error
+    /// expected at the tolerances (`ROBUST_SOLVES` solves).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub robust: Option<bool>,
     /// KSA's curvature tolerance (mm⁻¹): bends gentler than this get no patch.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kappa_tol: Option<f64>,
@@ -246,6 +259,11 @@ impl TuningOverrides {
         tuning.spread = self.spread.unwrap_or(tuning.spread);
         tuning.keep_clear = self.keep_clear.unwrap_or(tuning.keep_clear);
         tuning.kappa_tol = self.kappa_tol.unwrap_or(tuning.kappa_tol);
+        match self.robust {
+            Some(true) => tuning.robust_budget = ROBUST_SOLVES,
+            Some(false) => tuning.robust_budget = 0,
+            None => {}
+        }
         if self.correction == Some(false) {
             tuning.correction_mesh = None;
         }

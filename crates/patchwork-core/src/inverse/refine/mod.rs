@@ -98,16 +98,29 @@ impl RefineProblem<'_> {
     /// ([`TargetProfiles::clearance_residuals`]); none if it cannot be
     /// aligned.
     pub fn residuals(&self, centreline: &Curve, radii_mm: &[f64]) -> Option<DVector<f64>> {
+        let shape = self.shape_residuals(centreline)?;
+        let clear = self
+            .target
+            .clearance_residuals(centreline.points(), radii_mm);
+        let count = shape.len() + clear.len();
+        let residuals = DVector::from_iterator(count, shape.iter().copied().chain(clear));
+        residuals.norm().is_finite().then_some(residuals)
+    }
+
+    /// The scaled aligned residuals of `centreline` against the target alone
+    /// (the first [`Self::shape_rows`] of [`Self::residuals`]).
+    pub fn shape_residuals(&self, centreline: &Curve) -> Option<DVector<f64>> {
         let aligned = AlignedSamples::new(centreline, &self.target.shape_samples).ok()?;
         let n = aligned.residuals.len() as f64;
         let scale = 100.0 / (self.target.curve.length() * n.sqrt());
         let shape = (aligned.residuals.iter()).flat_map(|p| p.iter().map(|c| c * scale));
-        let clear = self
-            .target
-            .clearance_residuals(centreline.points(), radii_mm);
-        let count = 3 * aligned.residuals.len() + clear.len();
-        let residuals = DVector::from_iterator(count, shape.chain(clear));
+        let residuals = DVector::from_iterator(3 * aligned.residuals.len(), shape);
         residuals.norm().is_finite().then_some(residuals)
+    }
+
+    /// How many of the residuals are the shape's: three per target sample.
+    pub fn shape_rows(&self) -> usize {
+        3 * self.target.shape_samples.points().len()
     }
 
     /// [`Self::residuals`] of a simulated design, its rings' radii its own.
@@ -341,6 +354,10 @@ impl Residuals for ShapeResiduals<'_> {
         self.problem.cancel.load(Ordering::Relaxed)
     }
 }
+
+mod robust;
+
+pub(super) use robust::RobustRefined;
 
 #[cfg(test)]
 mod tests;

@@ -11,7 +11,7 @@
 
 use super::super::errors::DesignRunError;
 use super::super::run::{Context, Run};
-use crate::spread::{Against, Nominal, monte_carlo, spread_of};
+use crate::spread::{Against, Nominal, Spread, monte_carlo, spread_of};
 
 /// Its solves: `SOURCES_PER_PATCH` per patch and three for the balloon,
 /// and the Monte-Carlo check's designs.
@@ -67,14 +67,7 @@ impl SpreadStage {
         let (tolerances, threads) = (&settings.tolerances, settings.threads);
         match spread_of(&nominal, &against, tolerances, threads) {
             Ok(mut spread) => {
-                if self.monte_carlo > 0 {
-                    let draw = (self.monte_carlo, settings.seed);
-                    let sampled =
-                        monte_carlo(&nominal, &spread, tolerances, draw, threads, ctx.cancel);
-                    ctx.check_cancelled()?;
-                    spread.solves += self.monte_carlo;
-                    spread.monte_carlo = Some(sampled);
-                }
+                check_by_sampling(&mut spread, &nominal, self.monte_carlo, run, ctx)?;
                 run.state.evaluations += spread.solves;
                 run.spread = Some(spread);
             }
@@ -82,4 +75,26 @@ impl SpreadStage {
         }
         Ok(())
     }
+}
+
+/// The Monte-Carlo check of `spread` with `samples` designs (none: 0),
+/// seeded by the run's seed, its solves added to the spread's.
+pub(super) fn check_by_sampling(
+    spread: &mut Spread,
+    nominal: &Nominal,
+    samples: usize,
+    run: &Run<'_>,
+    ctx: &Context<'_>,
+) -> Result<(), DesignRunError> {
+    if samples == 0 {
+        return Ok(());
+    }
+    let settings = run.setup.settings;
+    let draw = (samples, settings.seed);
+    let (tolerances, threads) = (&settings.tolerances, settings.threads);
+    let sampled = monte_carlo(nominal, spread, tolerances, draw, threads, ctx.cancel);
+    ctx.check_cancelled()?;
+    spread.solves += samples;
+    spread.monte_carlo = Some(sampled);
+    Ok(())
 }
