@@ -3,6 +3,7 @@
 
 use crate::curve::{AlignedSamples, Curve};
 use crate::design::Design;
+use crate::fe::newton::PatternCache;
 use crate::fe::{SimulateOptions, Simulation};
 
 /// Samples of the centreline compared.
@@ -16,12 +17,16 @@ pub struct Change {
     pub tip_mm: f64,
 }
 
-/// A design and its converged state under `options`.
+/// A design and its converged state under `options`, and the tangent
+/// patterns of its mesh that every moved design's solve shares (a design
+/// run's own cache, so the spread, its check and a robust refine set each
+/// mesh's pattern up once).
 #[derive(Clone, Copy)]
 pub struct Nominal<'a> {
     pub design: &'a Design,
     pub simulation: &'a Simulation,
     pub options: &'a SimulateOptions,
+    pub patterns: &'a PatternCache,
 }
 
 /// How `moved` differs from `nominal`: Σ|dᵢ|² over the nominal's samples

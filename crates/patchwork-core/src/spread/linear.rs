@@ -88,10 +88,12 @@ pub fn linear_spread(
     tolerances.validate().map_err(SpreadError::Tolerances)?;
     let nominal = simulate(design, options).map_err(SpreadError::Nominal)?;
     let against = Against::target(&nominal, target)?;
+    let patterns = PatternCache::default();
     let nominal = Nominal {
         design,
         simulation: &nominal,
         options,
+        patterns: &patterns,
     };
     let mut spread = spread_of(&nominal, &against, tolerances, threads)?;
     spread.solves += 1;
@@ -124,13 +126,15 @@ pub fn spread_of(
         .iter()
         .map(|s| s.moved(nominal.design, s.tolerance(tolerances).0))
         .collect();
-    let patterns = PatternCache::default();
     let changes = map_in_threads(&moved, threads, &|design| {
-        simulate_with(design, nominal.options, Some(nominal.simulation), &patterns)
-            .map_err(|e| e.to_string())
-            .and_then(|moved| {
-                change_of(&moved.centreline, &nominal.simulation.centreline, &samples)
-            })
+        simulate_with(
+            design,
+            nominal.options,
+            Some(nominal.simulation),
+            nominal.patterns,
+        )
+        .map_err(|e| e.to_string())
+        .and_then(|moved| change_of(&moved.centreline, &nominal.simulation.centreline, &samples))
     });
     let mut contributors = Vec::with_capacity(sources.len());
     let mut band_sq = vec![0.0; SAMPLES];

@@ -20,7 +20,6 @@ use super::sources::Source;
 use super::tolerances::Tolerances;
 use crate::cmaes::SeededRng;
 use crate::design::Design;
-use crate::fe::newton::PatternCache;
 use crate::fe::simulate_with;
 use crate::parallel::map_in_threads;
 
@@ -49,15 +48,19 @@ pub fn monte_carlo(
             })
         })
         .collect();
-    let patterns = PatternCache::default();
     let reference = nominal.simulation.centreline.resample(SAMPLES).ok();
     let changes = map_in_threads(&designs, threads, &|design| {
         if cancel.load(Ordering::Relaxed) {
             return None;
         }
         let reference = reference.as_ref()?;
-        let moved =
-            simulate_with(design, nominal.options, Some(nominal.simulation), &patterns).ok()?;
+        let moved = simulate_with(
+            design,
+            nominal.options,
+            Some(nominal.simulation),
+            nominal.patterns,
+        )
+        .ok()?;
         change_of(&moved.centreline, &nominal.simulation.centreline, reference).ok()
     });
     let solved: Vec<_> = changes.into_iter().flatten().collect();

@@ -110,10 +110,12 @@ fn the_monte_carlo_check_agrees_with_the_linear_spread_of_a_smooth_source() {
     let d = design();
     let options = options();
     let simulation = crate::fe::simulate(&d, &options).unwrap();
+    let patterns = crate::fe::newton::PatternCache::default();
     let nominal = Nominal {
         design: &d,
         simulation: &simulation,
         options: &options,
+        patterns: &patterns,
     };
     let wall_only = Tolerances {
         placement_mm: 0.0,

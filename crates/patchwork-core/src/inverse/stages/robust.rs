@@ -84,6 +84,7 @@ impl RobustStage {
                 design: &run.design,
                 simulation: &on_model,
                 options: &model,
+                patterns: &ctx.caches.patterns,
             };
             let solves = spread.solves;
             check_by_sampling(&mut spread, &nominal, self.monte_carlo, run, ctx)?;
@@ -156,6 +157,7 @@ impl RobustStage {
             design,
             simulation: &on_model,
             options: &run.setup.verify_model,
+            patterns: &ctx.caches.patterns,
         };
         let against = Against {
             length_mm: run.setup.target.length(),

@@ -57,6 +57,7 @@ impl SpreadStage {
             design: &run.design,
             simulation,
             options,
+            patterns: &ctx.caches.patterns,
         };
         // Measured against the target as given once the run is assessed.
         let against = Against {
