@@ -16,9 +16,11 @@ pub struct BenchArgs {
     /// reference curves), curves (curves unlike the references, draft and
     /// standard), round-trips (simulated random designs, the layout
     /// unknown), users (curves as users send them: gentle arcs, sparse CAD
-    /// exports, noisy strokes, new kinds; draft), or report (BENCHMARKS.md:
-    /// forward solves, curves under draft and standard, round trips and
-    /// users' curves under draft; about 100 minutes on 2 cores).
+    /// exports, noisy strokes, new kinds; draft), sure (five curves designed
+    /// robust under draft, each checked by Monte-Carlo: sure.md), or report
+    /// (BENCHMARKS.md: forward solves, curves under draft and standard, round
+    /// trips and users' curves under draft, how sure a design is; about two
+    /// hours on 2 cores).
     #[arg(long, value_enum, default_value = "reference")]
     pub suite: Suite,
     /// Folder for bench.md and bench.svg (the report: its tables and plot).

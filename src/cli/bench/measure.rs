@@ -15,7 +15,9 @@ use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::simulate;
 use patchwork_core::inverse::input::prepare;
 use patchwork_core::inverse::objective::SHAPE_SAMPLES;
-use patchwork_core::inverse::{DesignOutcome, Plan, Smoothing, UserSettings, design};
+use patchwork_core::inverse::{
+    DesignOutcome, DesignProgress, Plan, Smoothing, StageName, UserSettings, design,
+};
 
 use super::args::BenchArgs;
 use super::cases::{Setting, Suite, Target};
@@ -90,7 +92,13 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
         // Each run is timed as a fresh process would run it: with caches
         // of its own.
         let started = Instant::now();
-        match design(&target.curve, &plan, &AtomicBool::new(false), &mut |_| {}) {
+        let mut spread_from = f64::NAN;
+        let mut observe = |p: &DesignProgress| {
+            if p.stage == StageName::Spread && spread_from.is_nan() {
+                spread_from = started.elapsed().as_secs_f64();
+            }
+        };
+        match design(&target.curve, &plan, &AtomicBool::new(false), &mut observe) {
             Ok(o) => {
                 let wall_s = started.elapsed().as_secs_f64();
                 reach = verdict(&o);
@@ -101,7 +109,8 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
                     aimed = Some(prepare(&target.curve, Smoothing::Auto, kappa_tol)?.0);
                 }
                 if let Some(aimed) = &aimed {
-                    samples.push(sample(target, aimed, &plan, &o, wall_s));
+                    let times = (wall_s, wall_s - spread_from);
+                    samples.push(sample(target, aimed, &plan, &o, times));
                 }
             }
             Err(e) => {
@@ -124,6 +133,8 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
             dtw_torsion: column(|s| s.dtw_torsion),
             patches: column(|s| s.patches),
             beyond_limits: samples.iter().map(|s| s.beyond_limits).fold(0.0, f64::max),
+            spread_s: column(|s| s.spread_s),
+            spread_percent: column(|s| s.spread_percent),
         },
         reach,
         failures,
@@ -134,7 +145,14 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
 /// on `REFERENCE_MESH` against `aimed`, the target the run aimed at; a
 /// drawn target's clean error is that simulation's against the clean curve
 /// it was drawn from.
-fn sample(target: &Target, aimed: &Curve, plan: &Plan, o: &DesignOutcome, wall_s: f64) -> Sample {
+/// `times`: the run's wall time and its spread stage's (s).
+fn sample(
+    target: &Target,
+    aimed: &Curve,
+    plan: &Plan,
+    o: &DesignOutcome,
+    (wall_s, spread_s): (f64, f64),
+) -> Sample {
     let tuning = plan.tuning();
     let on_reference = match o.verified_on == REFERENCE_MESH {
         true => Some(o.simulation.clone()),
@@ -156,6 +174,8 @@ fn sample(target: &Target, aimed: &Curve, plan: &Plan, o: &DesignOutcome, wall_s
         dtw_torsion: o.metrics.dtw_torsion,
         patches: o.design.patches.len() as f64,
         beyond_limits: o.at_limits.iter().filter(|a| a.beyond).count() as f64,
+        spread_s,
+        spread_percent: o.spread.as_ref().map_or(f64::NAN, |s| s.rms_percent),
     }
 }
 

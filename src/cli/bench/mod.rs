@@ -18,6 +18,7 @@ mod replot;
 mod report;
 mod row;
 mod suite;
+mod sureness;
 mod text;
 mod users;
 
@@ -46,6 +47,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
     if chosen == Suite::Report {
         return report::run(&args, &command);
     }
+    if chosen == Suite::Sure {
+        let section = sureness::section(&[], &sureness::measure(&args)?);
+        let text = format!("{section}\nWritten by `{command}`.\n");
+        std::fs::write(args.out.join("sure.md"), &text)?;
+        return emit(&text);
+    }
     let rows = measure_suite(
         chosen,
         |s| args.settings.is_empty() || args.settings.iter().any(|f| f == s.name),
@@ -65,6 +72,7 @@ fn command_line(args: &BenchArgs, chosen: Suite) -> String {
         Suite::Curves => " --suite curves",
         Suite::RoundTrips => " --suite round-trips",
         Suite::Users => " --suite users",
+        Suite::Sure => " --suite sure",
         Suite::Report => " --suite report",
     };
     let mut command = format!(

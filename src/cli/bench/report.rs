@@ -17,6 +17,7 @@ use super::forward::{self, ForwardRow};
 use super::measure::measure_suite;
 use super::render::{plot, table};
 use super::row::{Row, median};
+use super::sureness::{self, SureRow};
 use super::text::{header, known_limits};
 use super::users::clean_stroke_of;
 
@@ -32,6 +33,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     let curves = measured(Suite::Curves, &["draft", "standard"], args)?;
     let trips = measured(Suite::RoundTrips, &["draft"], args)?;
     let users = measured(Suite::Users, &["draft"], args)?;
+    let sure = sureness::measure(args)?;
     std::fs::write(args.out.join("bench.svg"), plot(&curves))?;
     std::fs::write(args.out.join("curves.md"), table(&curves, command))?;
     std::fs::write(args.out.join("round-trips.md"), table(&trips, command))?;
@@ -41,8 +43,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     let report = [
         head,
         headline(
-            &curves,
-            &trips,
+            (&curves, &trips, &sure),
             &goals,
             &forward,
             service.as_deref(),
@@ -51,6 +52,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
         curve_section(&curves, &args.out),
         trip_section(&trips),
         users_section(&users, &goals, &args.out),
+        sureness::section(&curves, &sure),
         forward_section(&forward),
         service_section(service.as_deref(), &args.out),
         known_limits(&curves),
@@ -91,8 +93,7 @@ fn summary(rows: &[Row], setting: &str) -> Summary {
 }
 
 fn headline(
-    curves: &[Row],
-    trips: &[Row],
+    (curves, trips, sure): (&[Row], &[Row], &[SureRow]),
     goals: &UsersGoals,
     forward: &[ForwardRow],
     service: Option<&str>,
@@ -119,6 +120,7 @@ fn headline(
         "| {} curves as users send them, `draft` | median {:.2} %, worst within reach {:.2} % against the curve meant; {} of 4 goals met |\n",
         goals.curves, goals.median, goals.worst, goals.met()
     ));
+    s.push_str(&sureness::headline(curves, sure));
     if let Some(default) = forward.first() {
         s.push_str(&format!(
             "| one forward solve, default mesh | {:.0} ms bare, {:.0} ms with six patches; hoop stretch {:+.2} % and axial {:+.2} % against membrane theory |\n",

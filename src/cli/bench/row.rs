@@ -26,6 +26,10 @@ pub struct Sample {
     pub dtw_torsion: f64,
     pub patches: f64,
     pub beyond_limits: f64,
+    /// Seconds of the run's spread stage (NaN without one), and the spread
+    /// it found (% of the target's length).
+    pub spread_s: f64,
+    pub spread_percent: f64,
 }
 
 impl Sample {
@@ -41,6 +45,8 @@ impl Sample {
             dtw_torsion: f64::NAN,
             patches: f64::NAN,
             beyond_limits: f64::NAN,
+            spread_s: f64::NAN,
+            spread_percent: f64::NAN,
         }
     }
 }

@@ -20,6 +20,7 @@ pub fn suite(suite: Suite) -> Result<(Targets, Vec<Setting>)> {
         Suite::Curves => any_curve(),
         Suite::RoundTrips => round_trips(),
         Suite::Users => super::users::users(),
+        Suite::Sure => anyhow::bail!("the sure suite has its own runs (bench::sureness)"),
         Suite::Report => anyhow::bail!("the report runs several suites (bench::report)"),
     }
 }
