@@ -449,7 +449,7 @@ mod tests {
             ..TuningOverrides::default()
         };
         let budgets = plan(Fidelity::Fine, robust.clone()).describe_budgets();
-        let robust_part = "robust: 200 solves, weighing the spread's 4 largest sources at most; \
+        let robust_part = "robust: 270 solves, weighing the spread's 4 largest sources at most; \
                            a Monte-Carlo check of 200 designs";
         assert!(budgets.ends_with(robust_part), "{budgets}");
         assert!(budgets.contains("at the tolerances; robust"), "{budgets}");

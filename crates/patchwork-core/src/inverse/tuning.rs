@@ -11,9 +11,10 @@ use crate::fe::SimulateOptions;
 use crate::fe::mesh::MeshSpec;
 use crate::fe::newton::NewtonOptions;
 
-/// The robust refine's solves when a request asks for it: about 40
-/// evaluations of the design and its four largest sources' copies.
-pub const ROBUST_SOLVES: usize = 200;
+/// The robust refine's solves when a request asks for it: about 30
+/// evaluations of the design and its four largest sources' copies either
+/// way.
+pub const ROBUST_SOLVES: usize = 270;
 
 /// Default initial CMA-ES step in the unit cube.
 pub const INITIAL_STEP: f64 = 0.2;

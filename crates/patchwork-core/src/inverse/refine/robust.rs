@@ -2,25 +2,27 @@
 //! the tolerances instead of the nominal one (tuning `robust`).
 //!
 //! With r(u) the refine's scaled residuals of the design at u (|r| is its
-//! shape error in %) and rₖ(u) those of the same design with source k moved
-//! by its tolerance σₖ, the expected square of the shape error over
-//! independent sources is to first order
+//! shape error in %) and r±ₖ(u) those of the same design with source k
+//! moved by ±σₖ, its tolerance, the expected square of the shape error over
+//! independent sources is to second order
 //!
 //! ```text
-//! E|r|² ≈ |r(u)|² + Σₖ |rₖ(u) − r(u)|²
+//! E|r|² ≈ |r(u)|² + Σₖ ½ (|r+ₖ(u) − r(u)|² + |r−ₖ(u) − r(u)|²)
 //! ```
 //!
-//! the nominal's square plus the spread's (each source's centreline change
-//! at its tolerance, as `crate::spread::linear` measures it; here each
-//! centreline is aligned onto the target by itself, which to first order is
-//! the same change). Stacking R(u) = [r(u); r₁(u) − r(u); …; rₘ(u) − r(u)]
-//! makes |R| the expected shape error over those m sources: a least-squares
-//! problem the refine's solver minimises as it does the nominal one. An
-//! evaluation solves the nominal design and its m moved copies, each
-//! warm-started from its own previous state, in parallel; a Jacobian
-//! linearises each of them (`fe::sensitivity`). The sources are the
-//! spread's largest (`RobustStage` chooses them): each costs a solve per
-//! evaluation, and the small ones change little. The clearance residuals
+//! the nominal's square plus the spread's, each source's change taken
+//! either way (each centreline aligned onto the target by itself, which to
+//! first order is the spread's change). One side alone, as the spread's
+//! secant, would let the refine find designs whose response is flat on that
+//! side and steep on the other; the two-point form sees both. Stacking
+//! R(u) = [r(u); (r±ₖ(u) − r(u))/√2 for each k and sign] makes |R| the
+//! expected shape error over those sources: a least-squares problem the
+//! refine's solver minimises as it does the nominal one. An evaluation
+//! solves the nominal design and its moved copies, each warm-started from
+//! its own previous state, in parallel; a Jacobian linearises each of them
+//! (`fe::sensitivity`). The sources are the spread's largest (`RobustStage`
+//! chooses them, with both signs): each copy costs a solve per evaluation,
+//! and the small sources change little. The clearance residuals
 //! (keep_clear) are the nominal design's only.
 
 use std::sync::atomic::Ordering;
@@ -59,7 +61,8 @@ pub(in crate::inverse) struct RobustRefined {
 }
 
 /// The stacked residuals R of the module's doc over `sources` (each with
-/// the amount it is moved by, in its tolerance's unit).
+/// the amount it is moved by, in its tolerance's unit: every source twice,
+/// at +σ and −σ).
 struct Robust<'p> {
     shape: ShapeResiduals<'p>,
     sources: &'p [(Source, f64)],
@@ -83,7 +86,11 @@ impl Robust<'_> {
         let mut rows = nominal.as_slice().to_vec();
         for r in moved {
             let r = r.as_ref()?;
-            rows.extend((r - &base).iter());
+            rows.extend(
+                (r - &base)
+                    .iter()
+                    .map(|d| d * std::f64::consts::FRAC_1_SQRT_2),
+            );
         }
         Some(DVector::from_vec(rows))
     }

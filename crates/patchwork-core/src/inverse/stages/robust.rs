@@ -125,7 +125,7 @@ impl RobustStage {
             problem.refine_robust(design, on_model, &sources, budget, &mut on_progress)?;
         let Some(refined) = refined else {
             return Ok(Err(
-                "the design and its moved copies could not be aligned".into()
+                "the design's copies at the tolerances could not be solved or aligned".into(),
             ));
         };
         run.state.evaluations += refined.solves;
@@ -180,7 +180,9 @@ impl RobustStage {
         let (nominal_design, robust_design) =
             (figures(verified, before), figures(&candidate, &spread));
         let summary = RobustSummary {
-            sources: sources.iter().map(|(s, _)| s.label()).collect(),
+            sources: (sources.iter().step_by(2))
+                .map(|(s, _)| s.label())
+                .collect(),
             kept: robust_design.expected_percent < nominal_design.expected_percent,
             nominal_design,
             robust_design,
@@ -209,8 +211,9 @@ struct Candidate {
     summary: RobustSummary,
 }
 
-/// The spread's largest sources, each at its tolerance: those that make up
-/// `WEIGHED_SHARE` of its square, at most `MAX_SOURCES`.
+/// The spread's largest sources, each at its tolerance either way (the
+/// robust refine's two copies of each): those that make up `WEIGHED_SHARE`
+/// of its square, at most `MAX_SOURCES`.
 fn weighed(spread: &Spread, tolerances: &crate::spread::Tolerances) -> Vec<(Source, f64)> {
     let total: f64 = spread.contributors.iter().map(|c| c.rms_mm.powi(2)).sum();
     let mut share = 0.0;
@@ -220,7 +223,8 @@ fn weighed(spread: &Spread, tolerances: &crate::spread::Tolerances) -> Vec<(Sour
             break;
         }
         share += c.rms_mm.powi(2);
-        sources.push((c.source, c.source.tolerance(tolerances).0));
+        let tolerance = c.source.tolerance(tolerances).0;
+        sources.extend([(c.source, tolerance), (c.source, -tolerance)]);
     }
     sources
 }
