@@ -6,6 +6,7 @@
 //! settings fairly. The plot uses the reference error; the re-simulation is not
 //! part of the wall time.
 
+use std::cell::Cell;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
@@ -92,12 +93,8 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
         // Each run is timed as a fresh process would run it: with caches
         // of its own.
         let started = Instant::now();
-        let mut spread_from = f64::NAN;
-        let mut observe = |p: &DesignProgress| {
-            if p.stage == StageName::Spread && spread_from.is_nan() {
-                spread_from = started.elapsed().as_secs_f64();
-            }
-        };
+        let spread_from = Cell::new(f64::NAN);
+        let mut observe = stage_clock(StageName::Spread, started, &spread_from);
         match design(&target.curve, &plan, &AtomicBool::new(false), &mut observe) {
             Ok(o) => {
                 let wall_s = started.elapsed().as_secs_f64();
@@ -109,7 +106,7 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
                     aimed = Some(prepare(&target.curve, Smoothing::Auto, kappa_tol)?.0);
                 }
                 if let Some(aimed) = &aimed {
-                    let times = (wall_s, wall_s - spread_from);
+                    let times = (wall_s, wall_s - spread_from.get());
                     samples.push(sample(target, aimed, &plan, &o, times));
                 }
             }
@@ -145,6 +142,20 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
 /// on `REFERENCE_MESH` against `aimed`, the target the run aimed at; a
 /// drawn target's clean error is that simulation's against the clean curve
 /// it was drawn from.
+/// An observer of a run begun at `started` that sets `at` to the seconds
+/// at which `stage` began (left as it is if the stage never runs).
+pub fn stage_clock(
+    stage: StageName,
+    started: Instant,
+    at: &Cell<f64>,
+) -> impl FnMut(&DesignProgress) + '_ {
+    move |p: &DesignProgress| {
+        if p.stage == stage && at.get().is_nan() {
+            at.set(started.elapsed().as_secs_f64());
+        }
+    }
+}
+
 /// `times`: the run's wall time and its spread stage's (s).
 fn sample(
     target: &Target,

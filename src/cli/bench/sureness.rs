@@ -5,18 +5,20 @@
 //! nominal and expected shape error under both objectives, and the sampled
 //! spread against the linear one.
 
+use std::cell::Cell;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
 use patchwork_core::curve::presets::Preset;
 use patchwork_core::inverse::{
-    DesignProgress, Fidelity, Plan, RobustSummary, StageName, TuningOverrides, UserSettings, design,
+    Fidelity, Plan, RobustSummary, StageName, TuningOverrides, UserSettings, design,
 };
 use patchwork_core::spread::MonteCarlo;
 use serde_json::json;
 
 use super::args::BenchArgs;
+use super::measure::stage_clock;
 use super::row::{Row, median};
 
 /// The curves made robust and checked by sampling: a plain bend, a helix,
@@ -62,12 +64,8 @@ pub fn measure(args: &BenchArgs) -> Result<Vec<SureRow>> {
             serde_json::from_value(json!({"robust": true, "monte_carlo": SAMPLES}))?;
         let plan = Plan::resolve(settings, &overrides)?;
         let started = Instant::now();
-        let mut robust_from = f64::NAN;
-        let mut observe = |p: &DesignProgress| {
-            if p.stage == StageName::Robust && robust_from.is_nan() {
-                robust_from = started.elapsed().as_secs_f64();
-            }
-        };
+        let robust_from = Cell::new(f64::NAN);
+        let mut observe = stage_clock(StageName::Robust, started, &robust_from);
         let o = design(&curve, &plan, &AtomicBool::new(false), &mut observe)
             .with_context(|| format!("{name}: the robust design"))?;
         let wall_s = started.elapsed().as_secs_f64();
@@ -78,7 +76,7 @@ pub fn measure(args: &BenchArgs) -> Result<Vec<SureRow>> {
             linear_rms_mm: spread.map_or(f64::NAN, |s| s.rms_mm),
             check: spread.and_then(|s| s.monte_carlo.clone()),
             wall_s,
-            robust_s: wall_s - robust_from,
+            robust_s: wall_s - robust_from.get(),
         };
         eprintln!("{:<40} robust and checked in {wall_s:.1} s", row.curve);
         rows.push(row);

@@ -246,6 +246,9 @@ pub struct Run<'a> {
     /// The spread stage's answer, or why it has none.
     pub spread: Option<Spread>,
     pub spread_failed: Option<String>,
+    /// The design's state on the verification model the spread was found
+    /// from, for the robust stage to start from.
+    pub spread_state: Option<Simulation>,
     /// The robust stage's summary, or why it did not run.
     pub robust: Option<RobustSummary>,
     pub robust_skipped: Option<String>,
@@ -278,6 +281,7 @@ impl<'a> Run<'a> {
             layouts: Vec::new(),
             spread: None,
             spread_failed: None,
+            spread_state: None,
             robust: None,
             robust_skipped: None,
         }

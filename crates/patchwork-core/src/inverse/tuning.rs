@@ -144,6 +144,17 @@ pub struct FinalRefineSettings {
     pub newton: NewtonOptions,
 }
 
+impl FinalRefineSettings {
+    /// The final refine's model: `tuning`'s on its mesh, with its Newton
+    /// limits.
+    pub fn model(&self, tuning: &Tuning) -> SimulateOptions {
+        SimulateOptions {
+            newton: self.newton,
+            ..tuning.model(self.mesh)
+        }
+    }
+}
+
 /// Where the search starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

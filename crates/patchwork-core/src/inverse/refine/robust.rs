@@ -74,6 +74,23 @@ impl Robust<'_> {
         moved.map(|(s, by)| s.moved(design, *by)).collect()
     }
 
+    /// `designs` solved in parallel, each from its state in `nears`; none
+    /// if any fails.
+    fn solved<'s>(
+        &self,
+        designs: &[Design],
+        nears: impl Iterator<Item = &'s Simulation>,
+    ) -> Option<Vec<Simulation>> {
+        let starts: Vec<(&Design, &Simulation)> = designs.iter().zip(nears).collect();
+        let problem = self.shape.problem;
+        let solved = map_in_threads(&starts, problem.threads, &|(design, near)| {
+            (problem.caches)
+                .simulate_from(design, problem.model, Some(near))
+                .ok()
+        });
+        solved.into_iter().collect()
+    }
+
     /// Each row of R from the nominal's residuals (its clearance's too) and
     /// the moved designs' centrelines.
     fn stacked(
@@ -112,17 +129,8 @@ impl Residuals for Robust<'_> {
         let design = self.shape.design_at(u);
         let mut designs = vec![design.clone()];
         designs.extend(self.moved(&design));
-        let starts: Vec<(&Design, &Simulation)> = designs
-            .iter()
-            .zip(std::iter::once(&near.nominal).chain(&near.moved))
-            .collect();
-        let problem = self.shape.problem;
-        let solved = map_in_threads(&starts, problem.threads, &|(design, near)| {
-            (problem.caches)
-                .simulate_from(design, problem.model, Some(near))
-                .ok()
-        });
-        let mut solved = solved.into_iter().collect::<Option<Vec<_>>>()?.into_iter();
+        let nears = std::iter::once(&near.nominal).chain(&near.moved);
+        let mut solved = self.solved(&designs, nears)?.into_iter();
         Some(Scenarios {
             nominal: solved.next()?,
             moved: solved.collect(),
@@ -190,52 +198,47 @@ impl RefineProblem<'_> {
         let shape = ShapeResiduals::new(self, start)?;
         let robust = Robust { shape, sources };
         let u = robust.shape.start_point();
-        let Some(scenarios) = robust.solve(
-            &u,
-            &Scenarios {
-                moved: vec![nominal.clone(); sources.len()],
-                nominal,
-            },
-        ) else {
+        // The start's copies, each from the start's state (the start itself
+        // is solved).
+        let copies = robust.moved(&robust.shape.design_at(&u));
+        let Some(moved) = robust.solved(&copies, std::iter::repeat(&nominal)) else {
             return Ok(None);
         };
-        let per_evaluation = sources.len() + 1;
-        let evaluations = budget.saturating_sub(per_evaluation) / per_evaluation;
+        let scenarios = Scenarios { nominal, moved };
+        // The start's copies cost one solve each; an evaluation one per copy
+        // and the design.
+        let (first, per_evaluation) = (sources.len(), sources.len() + 1);
+        let evaluations = budget.saturating_sub(first) / per_evaluation;
         let settings = least_squares::Settings {
             threads: self.threads,
             ..least_squares::Settings::default()
         };
         let mut progress =
-            |i, e, s: &Scenarios| on_progress(i, (e + 1) * per_evaluation, &s.nominal);
-        let solution = match offset {
-            Some(offset) => {
-                let mut padded =
-                    DVector::zeros(robust.residuals(&scenarios).map_or(0, |r| r.len()));
-                padded.rows_mut(0, offset.len()).copy_from(offset);
-                let mapped = SpaceMapped {
-                    inner: &robust,
-                    offset: &padded,
-                };
-                let Ok(start) = Iterate::new(&mapped, u, scenarios) else {
-                    return Ok(None);
-                };
-                least_squares::minimise(&mapped, start, evaluations, None, &settings, &mut progress)
-            }
-            None => {
-                let Ok(start) = Iterate::new(&robust, u, scenarios) else {
-                    return Ok(None);
-                };
-                least_squares::minimise(&robust, start, evaluations, None, &settings, &mut progress)
-            }
+            |i, e, s: &Scenarios| on_progress(i, first + e * per_evaluation, &s.nominal);
+        // The nominal rows take the finer model's correction, if any; the
+        // copies' changes are differences on this model (a zero offset).
+        let rows = robust.residuals(&scenarios).map_or(0, |r| r.len());
+        let mut padded = DVector::zeros(rows);
+        if let Some(offset) = offset.filter(|o| o.len() <= rows) {
+            padded.rows_mut(0, offset.len()).copy_from(offset);
         }
-        .map_err(|least_squares::Cancelled| DesignRunError::Cancelled)?;
+        let mapped = SpaceMapped {
+            inner: &robust,
+            offset: &padded,
+        };
+        let Ok(start) = Iterate::new(&mapped, u, scenarios) else {
+            return Ok(None);
+        };
+        let solution =
+            least_squares::minimise(&mapped, start, evaluations, None, &settings, &mut progress)
+                .map_err(|least_squares::Cancelled| DesignRunError::Cancelled)?;
         Ok(Some(RobustRefined {
             design: robust.shape.design_at(&solution.best.u),
             scenarios: solution.best.state,
             expected_before_percent: solution.start_error,
             expected_after_percent: solution.best.error,
             iterations: solution.counts.iterations,
-            solves: (solution.counts.evaluations + 1) * per_evaluation,
+            solves: first + solution.counts.evaluations * per_evaluation,
         }))
     }
 }

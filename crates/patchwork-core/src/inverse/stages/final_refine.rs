@@ -10,7 +10,7 @@ use super::super::refine::RefineProblem;
 use super::super::run::{Context, Run};
 use super::super::tuning::FinalRefineSettings;
 use super::refine::refine_problem;
-use crate::fe::{SimulateOptions, Simulation};
+use crate::fe::Simulation;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FinalRefine {
@@ -25,11 +25,8 @@ impl FinalRefine {
         run: &mut Run<'_>,
         ctx: &mut Context<'_>,
     ) -> Result<(), DesignRunError> {
-        let FinalRefineSettings { mesh, newton, .. } = self.refine;
-        let finest = SimulateOptions {
-            newton,
-            ..run.setup.tuning.model(mesh)
-        };
+        let mesh = self.refine.mesh;
+        let finest = self.refine.model(run.setup.tuning);
         let previous = run.take_verified("final refine")?;
         let start = match ctx
             .caches

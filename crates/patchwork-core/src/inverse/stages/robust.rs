@@ -17,7 +17,7 @@ use super::super::outcome::{Expected, RobustSummary, StageName};
 use super::super::refine::RobustRefined;
 use super::super::run::{Context, Run};
 use super::refine::refine_problem;
-use super::spread::check_by_sampling;
+use super::spread::{check_by_sampling, on_verify_model};
 use crate::curve::shape_error;
 use crate::fe::{SimulateOptions, Simulation};
 use crate::spread::{Against, Nominal, Source, Spread, spread_of};
@@ -50,14 +50,15 @@ impl RobustStage {
             run.robust_skipped = Some(format!("the design has no spread to weigh: {why}"));
             return Ok(());
         };
+        // The spread's own state of the design on the verification model.
+        let on_model = match run.spread_state.take() {
+            Some(state) => Ok(state),
+            None => on_verify_model(run, ctx),
+        };
         let verified = run.take_verified("robust")?;
         let model = run.setup.verify_model;
-        let on_model = match run.verified_on == run.setup.tuning.verify_mesh {
-            true => Ok(verified.clone()),
-            false => (ctx.caches).simulate_from(&run.design, &model, Some(&verified)),
-        };
         let outcome = match &on_model {
-            Err(e) => Ok(Err(format!("the design on the verification model: {e}"))),
+            Err(why) => Ok(Err(why.clone())),
             Ok(_) if run.space.dimension() == 0 => {
                 Ok(Err("the design has no free variables".into()))
             }
@@ -234,10 +235,7 @@ fn weighed(spread: &Spread, tolerances: &crate::spread::Tolerances) -> Vec<(Sour
 fn verified_model(run: &Run<'_>) -> SimulateOptions {
     let tuning = run.setup.tuning;
     match tuning.final_refine {
-        Some(last) if last.mesh == run.verified_on => SimulateOptions {
-            newton: last.newton,
-            ..tuning.model(last.mesh)
-        },
+        Some(last) if last.mesh == run.verified_on => last.model(tuning),
         _ => tuning.model(run.verified_on),
     }
 }

@@ -11,6 +11,7 @@
 
 use super::super::errors::DesignRunError;
 use super::super::run::{Context, Run};
+use crate::fe::Simulation;
 use crate::spread::{Against, Nominal, Spread, monte_carlo, spread_of};
 
 /// Its solves: `SOURCES_PER_PATCH` per patch and three for the balloon,
@@ -28,34 +29,17 @@ impl SpreadStage {
         ctx: &mut Context<'_>,
     ) -> Result<(), DesignRunError> {
         ctx.check_cancelled()?;
-        let Some(verified) = run.verified.as_ref() else {
-            return Err(DesignRunError::Plan(
-                "the spread stage needs the verify stage before it".into(),
-            ));
+        let simulation = match on_verify_model(run, ctx) {
+            Ok(simulation) => simulation,
+            Err(why) => {
+                run.spread_failed = Some(why);
+                return Ok(());
+            }
         };
         let options = &run.setup.verify_model;
-        let solved;
-        let simulation = match run.verified_on == run.setup.tuning.verify_mesh {
-            true => verified,
-            false => match ctx
-                .caches
-                .simulate_from(&run.design, options, Some(verified))
-            {
-                Ok(simulation) => {
-                    run.state.evaluations += 1;
-                    solved = simulation;
-                    &solved
-                }
-                Err(error) => {
-                    run.spread_failed =
-                        Some(format!("the design on the verification model: {error}"));
-                    return Ok(());
-                }
-            },
-        };
         let nominal = Nominal {
             design: &run.design,
-            simulation,
+            simulation: &simulation,
             options,
             patterns: &ctx.caches.patterns,
         };
@@ -71,6 +55,7 @@ impl SpreadStage {
                 check_by_sampling(&mut spread, &nominal, self.monte_carlo, run, ctx)?;
                 run.state.evaluations += spread.solves;
                 run.spread = Some(spread);
+                run.spread_state = Some(simulation);
             }
             Err(error) => run.spread_failed = Some(error.to_string()),
         }
@@ -98,4 +83,22 @@ pub(super) fn check_by_sampling(
     spread.solves += samples;
     spread.monte_carlo = Some(sampled);
     Ok(())
+}
+
+/// The run's design on the verification model: its verified state where it
+/// was verified there, else solved from it (counted); why not, where that
+/// fails.
+pub(super) fn on_verify_model(run: &mut Run<'_>, ctx: &Context<'_>) -> Result<Simulation, String> {
+    let verified = run
+        .verified
+        .as_ref()
+        .ok_or("the design was not verified before the spread")?;
+    if run.verified_on == run.setup.tuning.verify_mesh {
+        return Ok(verified.clone());
+    }
+    let options = &run.setup.verify_model;
+    let solved = (ctx.caches).simulate_from(&run.design, options, Some(verified));
+    let solved = solved.map_err(|e| format!("the design on the verification model: {e}"))?;
+    run.state.evaluations += 1;
+    Ok(solved)
 }
