@@ -61,7 +61,8 @@ pub struct DesignFlags {
     /// design's) instead of fitting it to the curve.
     #[arg(long)]
     fix_length: bool,
-    /// Threads evaluating a generation in parallel.
+    /// Threads: a generation's candidates side by side, and a lone solve's
+    /// assembly (the same design for any count).
     #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
     threads: usize,
     /// Expert tuning over the preset as JSON (file, `-` or inline); fields in docs/tuning.md.

@@ -32,6 +32,7 @@ pub fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         r.elapsed_s,
         r.termination
     );
+    s.push_str(&stages_line(r));
     s.push_str(&input_line(&r.input));
     s.push_str(&cleared_line(&r.input));
     s.push_str(&as_given_line(r));
@@ -62,6 +63,24 @@ pub fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         dir.display()
     ));
     s
+}
+
+/// Where the time went: each stage's seconds and solves, in order.
+fn stages_line(r: &DesignReport) -> String {
+    if r.stages.is_empty() {
+        return String::new();
+    }
+    let parts: Vec<String> = (r.stages.iter())
+        .map(|t| {
+            format!(
+                "{} {:.1} s ({})",
+                t.stage.as_str(),
+                t.seconds,
+                t.evaluations
+            )
+        })
+        .collect();
+    format!("stages:       {} (solves)\n", parts.join(", "))
 }
 
 /// One line on a refine stage (empty when it did not run).

@@ -46,6 +46,9 @@ pub struct SimulateArgs {
     /// stiffer on coarse meshes). See docs/studies.md, "Cut elements".
     #[arg(long, default_value = "laminate")]
     cut_elements: CutElements,
+    /// Threads the solve assembles on (the same result for any count).
+    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+    threads: usize,
     /// Also write the inflated surface (balloon.vtk, balloon.ply) and the
     /// centreline (centreline.csv) here.
     #[arg(long)]
@@ -86,6 +89,7 @@ fn ksa_design(value: &serde_json::Value) -> Result<Option<Design>> {
 }
 
 pub fn run(args: SimulateArgs) -> Result<()> {
+    anyhow::ensure!(args.threads >= 1, "--threads: must be at least 1");
     let text = super::input::read_text_argument(&args.design)?;
     let design =
         design_of(&text).with_context(|| format!("{}: invalid design JSON", args.design))?;
@@ -93,6 +97,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         mesh: MeshSpec::from_options(args.mesh_mm, args.straight_mm),
         rings: args.rings,
         cut_elements: args.cut_elements,
+        threads: args.threads,
         ..SimulateOptions::default()
     };
     let sim = simulate(&design, &options)?;

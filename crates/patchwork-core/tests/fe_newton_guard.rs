@@ -4,7 +4,7 @@
 //! start's first full step lands where the wall at a patch end wrinkles, and
 //! without the guard Newton creeps under a large shift for many iterations
 //! (28 in all, measured on incompressible materials; 10 with the guard; on
-//! the paper's compressible balloon 54 and 29). Both routes must reach the
+//! the paper's compressible balloon 30 and 12). Both routes must reach the
 //! same stable equilibrium, the guarded one in clearly fewer iterations.
 
 use patchwork_core::curve::ReferenceCurve;
@@ -28,7 +28,7 @@ fn scene(incompressible: bool) -> Design {
 #[test]
 fn the_guard_reaches_the_same_equilibrium_in_fewer_iterations() {
     // Measured 28 against 10 iterations (48 against 16 factorisations)
-    // incompressible, 54 against 29 on the paper's balloon.
+    // incompressible, 30 against 12 on the paper's balloon.
     for (incompressible, at_most) in [(true, 0.5), (false, 0.7)] {
         check_guard(&scene(incompressible), at_most);
     }

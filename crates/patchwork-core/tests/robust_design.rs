@@ -8,12 +8,14 @@
 //! must lower its own objective (the expected error over the sources it
 //! weighs), the figures must add up, and the design the run ends with must
 //! be the one with the lower expected error, its spread and metrics the
-//! outcome's.
+//! outcome's. The outcome's stage times name every stage the plan took.
 
 use std::sync::atomic::AtomicBool;
 
 use patchwork_core::curve::presets::Preset;
-use patchwork_core::inverse::{Expected, Fidelity, Plan, TuningOverrides, UserSettings, design};
+use patchwork_core::inverse::{
+    Expected, Fidelity, Plan, StageName, TuningOverrides, UserSettings, design,
+};
 
 #[test]
 fn a_robust_design_lowers_the_shape_error_expected_at_the_tolerances() {
@@ -34,6 +36,21 @@ fn a_robust_design_lowers_the_shape_error_expected_at_the_tolerances() {
     let plan = Plan::resolve(settings, &overrides).expect("valid settings");
     let o = design(&target, &plan, &AtomicBool::new(false), &mut |_| {}).expect("a design");
     assert_eq!(o.robust_skipped, None);
+    // Where the time went: the seed and every planned stage, in order,
+    // their solves adding up to the run's and their times to at most its.
+    let ran: Vec<StageName> = o.stage_times.iter().map(|t| t.stage).collect();
+    let planned: Vec<StageName> = std::iter::once(StageName::Seed)
+        .chain(plan.stages().iter().map(|s| s.name()))
+        .collect();
+    assert_eq!(ran, planned);
+    let solves: usize = o.stage_times.iter().map(|t| t.evaluations).sum();
+    assert_eq!(solves, o.evaluations, "{:?}", o.stage_times);
+    let seconds: f64 = o.stage_times.iter().map(|t| t.seconds).sum();
+    let elapsed = o.elapsed.as_secs_f64();
+    assert!(
+        seconds <= elapsed && seconds > 0.5 * elapsed,
+        "{seconds} s of {elapsed} s"
+    );
     let r = o.robust.expect("the robust refine ran");
     println!("{r:#?}");
     assert!(

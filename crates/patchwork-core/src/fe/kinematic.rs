@@ -20,9 +20,48 @@ use super::overlap::overlap_area;
 use super::tube_theory::TubeState;
 use crate::curve::Point;
 use crate::design::{Bonding, Design};
+use crate::material::ABAQUS_EXPLICIT_BULK_RATIO;
+use crate::material::Material;
 
 /// Samples around the circumference for the coverage estimate.
 const SAMPLES: usize = 72;
+
+/// How many times too little the equal-force stretch estimate bends an
+/// incompressible balloon, and the reference (compressible, K₀/μ₀ = 20,
+/// Poisson's ratio ν₀ = 0.475) balloon. On ten curves' KSA seeds and three
+/// CMA-ES-sized perturbations of each, cold solves on the reference balloon
+/// take a median of 14 Newton iterations on the draft search mesh and 14 on
+/// its verification mesh at 2×, against 27 and 26 at 3× (which fails 3 of
+/// the trefoil's 4 designs), 23 and 25 at 1.5×, 18 and 20 at 1.75×, 13 and
+/// 13 at 2.25× (worse than 2× on the Hilbert curve and the trefoil, the
+/// dearest solves) (`cargo run --release -p patchwork-core --example
+/// kinematic_scale -- 3 1.5 1.75 2 2.25 3`). The same curves incompressible
+/// (two perturbations each) take a median of 13 and 14 at 3×, against 19
+/// and 22 at 2×, 15 and 18 at 2.5×, 18 and 17 at 3.5× (`... -- 2 2 2.5 3
+/// 3.5 incompressible`).
+const SCALE_INCOMPRESSIBLE: f64 = 3.0;
+const SCALE_REFERENCE: f64 = 2.0;
+/// The reference balloon's ν₀.
+const NU_REFERENCE: f64 = poisson(ABAQUS_EXPLICIT_BULK_RATIO);
+
+/// The curvature scale of the kinematic start for a balloon of `material`:
+/// measured at ν₀ = 0.475 and 0.5 (above), linear in Poisson's ratio
+/// between them, the reference's below. Any value only changes where
+/// Newton starts, not where it ends.
+pub fn calibrated_scale(material: &Material) -> f64 {
+    let ratio = material.bulk_modulus() / material.shear_modulus();
+    let nu = match ratio.is_finite() {
+        true => poisson(ratio),
+        false => 0.5,
+    };
+    let share = ((nu - NU_REFERENCE) / (0.5 - NU_REFERENCE)).clamp(0.0, 1.0);
+    SCALE_REFERENCE + share * (SCALE_INCOMPRESSIBLE - SCALE_REFERENCE)
+}
+
+/// Poisson's ratio ν₀ = (3K₀/μ₀ − 2)/(6K₀/μ₀ + 2) at small strain.
+const fn poisson(bulk_ratio: f64) -> f64 {
+    (3.0 * bulk_ratio - 2.0) / (6.0 * bulk_ratio + 2.0)
+}
 
 /// Node positions of the kinematic estimate.
 pub fn kinematic_state(
@@ -113,4 +152,27 @@ fn bending(design: &Design, y: f64, c: f64, wall: f64, patch: f64, axial: f64) -
         b += 2.0 * lambda * phi.sin() / SAMPLES as f64;
     }
     (mean, a, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::Compressibility;
+
+    /// The two measured ends and a balloon between them.
+    #[test]
+    fn the_scale_runs_from_the_reference_balloon_to_an_incompressible_one() {
+        let reference = Design::reference(vec![]).balloon.material;
+        assert!((calibrated_scale(&reference) - SCALE_REFERENCE).abs() < 1e-9);
+        let with = |c| Material {
+            compressibility: c,
+            ..reference.clone()
+        };
+        let incompressible = with(Compressibility::Incompressible);
+        assert_eq!(calibrated_scale(&incompressible), SCALE_INCOMPRESSIBLE);
+        let between = calibrated_scale(&with(Compressibility::BulkRatio(100.0)));
+        assert!(between > 2.7 && between < 2.9, "{between}");
+        let softer = with(Compressibility::BulkRatio(5.0));
+        assert_eq!(calibrated_scale(&softer), SCALE_REFERENCE);
+    }
 }

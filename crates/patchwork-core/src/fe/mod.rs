@@ -11,6 +11,7 @@
 //! finds where the predicted shape does), inflation dynamics, wall-thickness
 //! variation of real balloons, bending stiffness.
 
+mod assembly;
 mod carry;
 pub mod centreline;
 pub mod contact;

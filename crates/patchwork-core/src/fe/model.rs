@@ -4,13 +4,11 @@
 //! Π(x) = Σ_e A₀ ψ_e(C) − P V(x) (ψ = Σ t W for an uncut element) with its
 //! gradient and Hessian.
 
-use faer::sparse::Pair;
-
 use super::element::Triangle;
 use super::laminate::Layer;
 use super::mesh::TubeMesh;
 use super::overlap::{Interface, patch_cut};
-use super::pressure::{volume, volume_gradient, volume_hessian};
+use super::pressure::{volume, volume_gradient};
 use super::section::{Cover, CutElements, Section, WALL, materials};
 use crate::curve::Point;
 use crate::design::Design;
@@ -31,6 +29,11 @@ pub struct Model {
     pub dof: Vec<Option<usize>>,
     pub dof_count: usize,
     pub pressure: f64,
+    /// Where each triangle's tangent entries start in the pattern's order
+    /// (`assembly.rs`), the total last.
+    pub(super) value_offsets: Vec<usize>,
+    /// Threads an assembly splits the triangles over ([`Model::with_threads`]).
+    pub(super) threads: usize,
 }
 
 impl Model {
@@ -86,7 +89,7 @@ impl Model {
                 next += 3;
             }
         }
-        Model {
+        let mut model = Model {
             mesh,
             triangles,
             sections,
@@ -96,7 +99,19 @@ impl Model {
             dof,
             dof_count: next,
             pressure: design.pressure_mpa(),
-        }
+            value_offsets: Vec::new(),
+            threads: 1,
+        };
+        model.value_offsets = model.entry_offsets();
+        model
+    }
+
+    /// This model assembling on up to `threads` threads: the same potential,
+    /// gradient and tangent to the last bit, in less wall time where cores
+    /// are idle (a solve that runs alone).
+    pub fn with_threads(mut self, threads: usize) -> Model {
+        self.threads = threads.max(1);
+        self
     }
 
     /// Sections with patch stiffness scaled by `s` ∈ [0, 1] (continuation).
@@ -147,7 +162,7 @@ impl Model {
         u
     }
 
-    fn corners(&self, x: &[Point], t: usize) -> [Point; 3] {
+    pub(super) fn corners(&self, x: &[Point], t: usize) -> [Point; 3] {
         self.triangles[t].nodes.map(|n| x[n])
     }
 
@@ -172,100 +187,6 @@ impl Model {
             }
         }
         g
-    }
-
-    /// Total potential Π; +∞ outside the materials' domain.
-    pub fn potential(&self, x: &[Point], sections: &[Section]) -> f64 {
-        let mut strain = 0.0;
-        for (t, tri) in self.triangles.iter().enumerate() {
-            strain += tri.energy(&self.corners(x, t), &sections[t], &self.materials);
-            if !strain.is_finite() {
-                return f64::INFINITY;
-            }
-        }
-        strain - self.pressure * self.volume(x)
-    }
-
-    /// The (lower-triangle) sparsity pattern in the order [`Model::assemble`]
-    /// fills values, followed by one diagonal entry per DOF (for shifts).
-    pub fn pattern(&self) -> Vec<Pair<usize, usize>> {
-        let mut pairs = Vec::new();
-        for t in 0..self.triangles.len() {
-            self.triangle_entries(t, |_, _, row, col| pairs.push(Pair::new(row, col)));
-        }
-        pairs.extend((0..self.dof_count).map(|i| Pair::new(i, i)));
-        pairs
-    }
-
-    /// Visits (local row, local col in the 9×9 element matrix, global row,
-    /// global col) for every lower-triangle entry of triangle `t` between free
-    /// DOFs, in a fixed order: the same order for the pattern and the values.
-    fn triangle_entries(&self, t: usize, mut visit: impl FnMut(usize, usize, usize, usize)) {
-        let nodes = self.triangles[t].nodes;
-        for (a, &node_a) in nodes.iter().enumerate() {
-            let Some(da) = self.dof[node_a] else {
-                continue;
-            };
-            for (b, &node_b) in nodes.iter().enumerate() {
-                let Some(db) = self.dof[node_b] else {
-                    continue;
-                };
-                for i in 0..3 {
-                    for j in 0..3 {
-                        if da + i >= db + j {
-                            visit(3 * a + i, 3 * b + j, da + i, db + j);
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    /// Π, its gradient and the lower triangle of its Hessian (values in
-    /// [`Model::pattern`] order, shift entries set to `shift`). `None` when a
-    /// material leaves its domain.
-    pub fn assemble(
-        &self,
-        x: &[Point],
-        sections: &[Section],
-        shift: f64,
-        gradient: &mut [f64],
-        values: &mut Vec<f64>,
-    ) -> Option<f64> {
-        self.assemble_at(x, sections, self.pressure, shift, gradient, values)
-    }
-
-    /// [`Model::assemble`] at an explicit pressure (MPa): volume control treats
-    /// the pressure as an unknown.
-    pub fn assemble_at(
-        &self,
-        x: &[Point],
-        sections: &[Section],
-        pressure: f64,
-        shift: f64,
-        gradient: &mut [f64],
-        values: &mut Vec<f64>,
-    ) -> Option<f64> {
-        gradient.fill(0.0);
-        values.clear();
-        let mut potential = 0.0;
-        for (t, tri) in self.triangles.iter().enumerate() {
-            let corners = self.corners(x, t);
-            let (w, force, mut k) = tri.evaluate(&corners, &sections[t], &self.materials)?;
-            let dv = volume_gradient(&corners);
-            k -= pressure * volume_hessian(&corners);
-            potential += w - pressure * volume(&corners);
-            for a in 0..3 {
-                if let Some(d) = self.dof[tri.nodes[a]] {
-                    for i in 0..3 {
-                        gradient[d + i] += force[(i, a)] - pressure * dv[(i, a)];
-                    }
-                }
-            }
-            self.triangle_entries(t, |i, j, _, _| values.push(k[(i, j)]));
-        }
-        values.extend(std::iter::repeat_n(shift, self.dof_count));
-        Some(potential)
     }
 }
 

@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use super::carry::carried_state;
 use super::centreline::{Ring, rings};
-use super::kinematic::kinematic_state;
+use super::kinematic::{calibrated_scale, kinematic_state};
 use super::mesh::{MeshSpec, TubeMesh};
 use super::model::Model;
 use super::newton::{NewtonOptions, PatternCache, SolveError, SolveStats, Solver};
@@ -13,12 +13,6 @@ use super::section::CutElements;
 use super::tube_theory::{TubeState, inflate_tube};
 use crate::curve::{AnalysisOptions, Curve, Point, analyse};
 use crate::design::{Design, DesignError};
-
-/// Calibration of the kinematic start: the equal-force stretch estimate bends
-/// the tube about three times too little (measured on the Hilbert KSA design:
-/// start tip 150/152/−35 mm against the solution's 116/134/−34 at 3×, Newton
-/// iterations 60 → 18). Any value only changes where Newton starts.
-const KINEMATIC_SCALE: f64 = 3.0;
 
 /// Cold solves on fine meshes start from coarser models: each mesh from the
 /// converged state of one with elements twice as large (3 × as large along
@@ -49,6 +43,11 @@ pub struct SimulateOptions {
     /// of coarser models (elements twice as large, down to 2 mm) rather
     /// than the kinematic estimate alone.
     pub coarse_start: bool,
+    /// Threads one solve's assemblies split the elements over (at least 1).
+    /// Every count gives the same result to the last bit; more than one
+    /// only shortens a solve that runs while cores are idle, not solves
+    /// already run side by side.
+    pub threads: usize,
 }
 
 impl Default for SimulateOptions {
@@ -61,6 +60,7 @@ impl Default for SimulateOptions {
             cut_elements: CutElements::default(),
             time_limit: None,
             coarse_start: true,
+            threads: 1,
         }
     }
 }
@@ -172,7 +172,7 @@ pub fn simulate_with(
             pressure_kpa: design.pressure_kpa,
         })?;
     let mesh = TubeMesh::for_design(design, options.mesh);
-    let model = Model::new(design, mesh, options.cut_elements);
+    let model = Model::new(design, mesh, options.cut_elements).with_threads(options.threads);
     let setup = Instant::now();
     let solver = Solver::new(&model, patterns).map_err(|reason| SimulateError::Solve {
         stiffness: 0.0,
@@ -198,8 +198,14 @@ pub fn simulate_with(
         .or(coarse.as_ref())
         .and_then(|p| carried_state(&p.mesh, &p.positions, &model.mesh));
     let kinematic = std::iter::once_with(|| {
-        (!design.patches.is_empty())
-            .then(|| kinematic_state(design, &model.mesh, tube_state, KINEMATIC_SCALE))
+        (!design.patches.is_empty()).then(|| {
+            kinematic_state(
+                design,
+                &model.mesh,
+                tube_state,
+                calibrated_scale(&design.balloon.material),
+            )
+        })
     })
     .flatten();
     // Each solve gets its own limit, or what is left of the whole

@@ -13,7 +13,7 @@ use super::clearing::target_to_aim_at;
 use super::errors::DesignRunError;
 use super::input::prepare;
 use super::limits::at_limits;
-use super::outcome::{DesignOutcome, DesignProgress, SearchEnd, StageName};
+use super::outcome::{DesignOutcome, DesignProgress, SearchEnd, StageName, StageTime};
 use super::plan::Plan;
 use super::run::{Context, Observer, Run, Setup};
 use super::shortfall::{RunFacts, shortfalls};
@@ -58,17 +58,25 @@ pub fn design_resumable(
         .as_ref()
         .map_or((0, f64::NAN), |c| (c.evaluations, c.best_objective));
     ctx.entering(StageName::Seed, evaluations, best);
+    let started = ctx.elapsed_s();
     let mut run = plan.seed().run(setup, resume, &mut ctx)?;
+    let mut times = vec![StageTime {
+        stage: StageName::Seed,
+        seconds: ctx.elapsed_s() - started,
+        evaluations: run.state.evaluations - evaluations,
+    }];
     for stage in plan.stages() {
         ctx.check_cancelled()?;
-        ctx.entering(
-            stage.name(),
-            run.state.evaluations,
-            run.state.best_objective,
-        );
+        let (started, before) = (ctx.elapsed_s(), run.state.evaluations);
+        ctx.entering(stage.name(), before, run.state.best_objective);
         stage.run(&mut run, &mut ctx)?;
+        times.push(StageTime {
+            stage: stage.name(),
+            seconds: ctx.elapsed_s() - started,
+            evaluations: run.state.evaluations - before,
+        });
     }
-    outcome(run, given, &ctx)
+    outcome(run, given, times, &ctx)
 }
 
 /// The outcome of a run whose stages are done; `given` is the curve as the
@@ -76,6 +84,7 @@ pub fn design_resumable(
 fn outcome(
     mut run: Run<'_>,
     given: &Curve,
+    stage_times: Vec<StageTime>,
     ctx: &Context<'_>,
 ) -> Result<DesignOutcome, DesignRunError> {
     let simulation = run.take_verified("outcome")?;
@@ -132,6 +141,7 @@ fn outcome(
         spread_failed: run.spread_failed,
         robust: run.robust,
         robust_skipped: run.robust_skipped,
+        stage_times,
         elapsed: Duration::from_secs_f64(ctx.elapsed_s()),
     })
 }

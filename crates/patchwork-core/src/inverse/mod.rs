@@ -54,7 +54,7 @@ pub use limits::AtLimit;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use outcome::{
     AsGiven, DesignOutcome, DesignProgress, Expected, Metrics, Profiles, RefineSummary,
-    RobustSummary, SearchEnd, SearchStop, StageName,
+    RobustSummary, SearchEnd, SearchStop, StageName, StageTime,
 };
 pub use plan::{Plan, Stage};
 pub use presets::{Fidelity, PRESETS, PresetRow};

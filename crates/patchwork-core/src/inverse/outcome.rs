@@ -80,6 +80,15 @@ impl StageName {
     }
 }
 
+/// One stage's share of a run: its wall time and the forward solves it
+/// counted (every stage's own; the search's include the seed's).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct StageTime {
+    pub stage: StageName,
+    pub seconds: f64,
+    pub evaluations: usize,
+}
+
 /// Progress reported to the observer.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct DesignProgress {
@@ -246,6 +255,8 @@ pub struct DesignOutcome {
     /// where it was planned).
     pub robust: Option<RobustSummary>,
     pub robust_skipped: Option<String>,
+    /// Each stage the run took in this process, in order, with its time.
+    pub stage_times: Vec<StageTime>,
     pub elapsed: Duration,
 }
 

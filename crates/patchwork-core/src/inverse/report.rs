@@ -7,7 +7,7 @@ use super::input::InputReport;
 use super::layout::LayoutTrial;
 use super::limits::AtLimit;
 use super::outcome::{
-    AsGiven, DesignOutcome, Metrics, Profiles, RefineSummary, RobustSummary, SearchEnd,
+    AsGiven, DesignOutcome, Metrics, Profiles, RefineSummary, RobustSummary, SearchEnd, StageTime,
 };
 use super::reach::ReachReport;
 use super::shortfall::Explained;
@@ -48,6 +48,11 @@ pub struct DesignReport {
     pub uninflated_length_to_cut_mm: f64,
     pub evaluations: usize,
     pub elapsed_s: f64,
+    /// Each stage's wall time and forward solves, in the order run (this
+    /// process's: a resumed run lists what it ran after resuming); empty
+    /// in reports written before it was kept.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stages: Vec<StageTime>,
     pub termination: SearchEnd,
     /// The refine's shape error before and after, steps and solves (absent
     /// when it did not run).
@@ -139,6 +144,7 @@ impl DesignReport {
             uninflated_length_to_cut_mm: outcome.uninflated_length_to_cut_mm,
             evaluations: outcome.evaluations,
             elapsed_s: outcome.elapsed.as_secs_f64(),
+            stages: outcome.stage_times.clone(),
             termination: outcome.termination,
             refine: outcome.refine,
             final_refine: outcome.final_refine,

@@ -17,7 +17,7 @@ use super::outcome::{DesignProgress, RefineSummary, RobustSummary, SearchEnd, St
 use super::planar::flattened;
 use super::reach::ReachReport;
 use super::settings::UserSettings;
-use super::tuning::Tuning;
+use super::tuning::{FinalRefineSettings, Tuning};
 use super::variables::{DesignSpace, Freedom, VariableBounds};
 use crate::cmaes::Termination;
 use crate::curve::Curve;
@@ -204,9 +204,29 @@ impl<'a> Setup<'a> {
             settings,
             tuning,
             profiles,
-            search_model: tuning.model(tuning.search_mesh),
-            verify_model: tuning.model(tuning.verify_mesh),
+            search_model: threaded(tuning.model(tuning.search_mesh), settings),
+            verify_model: threaded(tuning.model(tuning.verify_mesh), settings),
         }
+    }
+
+    /// The run's model on `mesh`: the tuning's, assembling on the run's
+    /// threads where a solve runs alone (`SimulateOptions::threads`).
+    pub fn model(&self, mesh: MeshSpec) -> SimulateOptions {
+        threaded(self.tuning.model(mesh), self.settings)
+    }
+
+    /// The final refine's model (`last`'s Newton limits), on the run's
+    /// threads.
+    pub fn final_model(&self, last: &FinalRefineSettings) -> SimulateOptions {
+        threaded(last.model(self.tuning), self.settings)
+    }
+}
+
+/// `model` assembling on the run's threads.
+fn threaded(model: SimulateOptions, settings: &UserSettings) -> SimulateOptions {
+    SimulateOptions {
+        threads: settings.threads,
+        ..model
     }
 }
 

@@ -28,7 +28,9 @@ pub struct UserSettings {
     /// How the target is smoothed before the design (default: from the
     /// noise found on it).
     pub smoothing: Smoothing,
-    /// Threads evaluating a search generation or a Jacobian's columns.
+    /// Threads evaluating a search generation or a Jacobian's columns side
+    /// by side, and assembling a solve that runs alone (the refine's trials,
+    /// the verification): the same design for any count.
     pub threads: usize,
     /// The fabrication and operating tolerances the spread is reported at.
     pub tolerances: Tolerances,

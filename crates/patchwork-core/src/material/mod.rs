@@ -29,7 +29,7 @@ mod thickness;
 mod volumetric;
 
 pub use hyper::Hyper;
-pub use volumetric::Compressibility;
+pub use volumetric::{ABAQUS_EXPLICIT_BULK_RATIO, Compressibility};
 
 /// A membrane material, as written in design JSON:
 /// `{"model": ..., <the model's parameters>, <its compressibility>}` where the

@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 use crate::curve::{AnalysisOptions, Curve, Point, analyse};
 use crate::design::{Design, Patch};
 use crate::fe::{SimulateError, SimulateOptions, Simulation};
+use crate::parallel::map_in_threads;
 
 use super::super::caches::Caches;
 use super::super::variables::VariableBounds;
@@ -76,44 +77,54 @@ pub struct ReachTable {
 
 impl ReachTable {
     /// The table for `base`'s balloon, patch material and pressure, over
-    /// `bounds`' widths and angles, on `model`. A width or angle whose
-    /// balloon does not solve is left out; an error only if none solves.
-    /// Once `cancel` is set no further solve starts and the table holds
-    /// what was solved before: the caller checks `cancel` before using it.
+    /// `bounds`' widths and angles, on `model`, the grid's balloons solved
+    /// on up to `threads` threads (each cold: the table is the same for any
+    /// thread count). A width or angle whose balloon does not solve is left
+    /// out; an error only if none solves. Once `cancel` is set no further
+    /// solve starts and the table holds what was solved before: the caller
+    /// checks `cancel` before using it.
     pub fn compute(
         base: &Design,
         bounds: &VariableBounds,
         model: &SimulateOptions,
         caches: &Caches,
+        threads: usize,
         cancel: &AtomicBool,
     ) -> Result<ReachTable, SimulateError> {
         let h = bounds.h_max_mm;
+        let grid: Vec<(f64, f64)> = WIDTH_FRACTIONS
+            .into_iter()
+            .flat_map(|fraction| {
+                let width = bounds.w_min_mm + fraction * (bounds.w_max_mm - bounds.w_min_mm);
+                (ANGLES_DEG.into_iter())
+                    .filter(|t| *t <= bounds.theta_limit_deg)
+                    .map(move |theta| (width, theta))
+            })
+            .collect();
+        let solved = map_in_threads(&grid, threads, &|&(width, theta)| {
+            if cancel.load(Ordering::Relaxed) {
+                return None;
+            }
+            let design = one_patch(base, h, width, theta);
+            let simulation = caches.simulate(&design, model);
+            Some(simulation.map(|simulation| {
+                let (curvature, torsion) = middle_helix(&design, &simulation);
+                PatchResponse {
+                    width_mm: width,
+                    theta_deg: theta,
+                    curvature_per_mm: curvature,
+                    torsion_per_mm: torsion,
+                    peak_curvature_per_mm: peak_bend(&design, &simulation, bounds.h_min_mm)
+                        .max(curvature),
+                }
+            }))
+        });
         let mut entries = Vec::new();
         let mut last_error = None;
-        for fraction in WIDTH_FRACTIONS {
-            let width = bounds.w_min_mm + fraction * (bounds.w_max_mm - bounds.w_min_mm);
-            for theta in ANGLES_DEG
-                .into_iter()
-                .filter(|t| *t <= bounds.theta_limit_deg)
-            {
-                if cancel.load(Ordering::Relaxed) {
-                    break;
-                }
-                let design = one_patch(base, h, width, theta);
-                match caches.simulate(&design, model) {
-                    Ok(simulation) => {
-                        let (curvature, torsion) = middle_helix(&design, &simulation);
-                        entries.push(PatchResponse {
-                            width_mm: width,
-                            theta_deg: theta,
-                            curvature_per_mm: curvature,
-                            torsion_per_mm: torsion,
-                            peak_curvature_per_mm: peak_bend(&design, &simulation, bounds.h_min_mm)
-                                .max(curvature),
-                        });
-                    }
-                    Err(error) => last_error = Some(error),
-                }
+        for result in solved.into_iter().flatten() {
+            match result {
+                Ok(entry) => entries.push(entry),
+                Err(error) => last_error = Some(error),
             }
         }
         match (entries.is_empty(), last_error) {

@@ -15,6 +15,7 @@ fn table() -> ReachTable {
         &VariableBounds::default(),
         &model(),
         &Caches::default(),
+        2,
         &AtomicBool::new(false),
     )
     .unwrap()
@@ -185,6 +186,7 @@ fn the_compressible_balloons_peak_bends_are_its_bends() {
         &bounds,
         &model(),
         &Caches::default(),
+        1,
         &AtomicBool::new(false),
     )
     .unwrap();

@@ -317,8 +317,7 @@ impl Residuals for ShapeResiduals<'_> {
 
     fn solve(&self, u: &[f64], near: &Simulation) -> Option<Simulation> {
         let design = self.design_at(u);
-        let caches = self.problem.caches;
-        caches
+        (self.problem.caches)
             .simulate_from(&design, self.problem.model, Some(near))
             .ok()
     }

@@ -26,7 +26,7 @@ impl FinalRefine {
         ctx: &mut Context<'_>,
     ) -> Result<(), DesignRunError> {
         let mesh = self.refine.mesh;
-        let finest = self.refine.model(run.setup.tuning);
+        let finest = run.setup.final_model(&self.refine);
         let previous = run.take_verified("final refine")?;
         let start = match ctx
             .caches

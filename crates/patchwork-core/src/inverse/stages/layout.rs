@@ -162,7 +162,7 @@ impl Layout {
         let simulation = match self.refine.verified_on(run, &refined) == run.verified_on {
             true => Some(refined.simulation),
             false => {
-                let model = run.setup.tuning.model(run.verified_on);
+                let model = run.setup.model(run.verified_on);
                 run.state.evaluations += 1;
                 ctx.caches.simulate(&refined.design, &model).ok()
             }

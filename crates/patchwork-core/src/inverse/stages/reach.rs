@@ -23,6 +23,7 @@ impl Reach {
             bounds,
             &setup.verify_model,
             ctx.caches,
+            setup.settings.threads,
             ctx.cancel,
         )
         .map_err(DesignRunError::Reach)?;

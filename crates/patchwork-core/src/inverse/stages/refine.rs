@@ -85,7 +85,7 @@ impl Refine {
         let refined = match self.correction {
             Some(mesh) => refine_corrected(
                 &problem,
-                &run.setup.tuning.model(mesh),
+                &run.setup.model(mesh),
                 design,
                 simulation,
                 self.solves,

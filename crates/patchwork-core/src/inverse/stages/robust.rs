@@ -233,9 +233,8 @@ fn weighed(spread: &Spread, tolerances: &crate::spread::Tolerances) -> Vec<(Sour
 /// The options of the model the run's design is verified on: the final
 /// refine's (with its Newton limits) or the run's own.
 fn verified_model(run: &Run<'_>) -> SimulateOptions {
-    let tuning = run.setup.tuning;
-    match tuning.final_refine {
-        Some(last) if last.mesh == run.verified_on => last.model(tuning),
-        _ => tuning.model(run.verified_on),
+    match run.setup.tuning.final_refine {
+        Some(last) if last.mesh == run.verified_on => run.setup.final_model(&last),
+        _ => run.setup.model(run.verified_on),
     }
 }
