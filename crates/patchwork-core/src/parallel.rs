@@ -6,6 +6,7 @@
 //! so a thread count is never multiplied by another.
 
 use std::cell::Cell;
+use std::ops::Range;
 
 thread_local! {
     /// Whether this thread is one of a parallel loop's.
@@ -29,6 +30,33 @@ pub(crate) fn spawn_marked<'scope, T: Send + 'scope>(
     })
 }
 
+/// `0..count` in up to `threads` contiguous ranges of near-equal length
+/// (at least one range, empty when `count` is 0).
+pub(crate) fn ranges(count: usize, threads: usize) -> Vec<Range<usize>> {
+    let size = count.div_ceil(threads.clamp(1, count.max(1))).max(1);
+    let mut ranges: Vec<Range<usize>> = (0..count)
+        .step_by(size)
+        .map(|start| start..(start + size).min(count))
+        .collect();
+    if ranges.is_empty() {
+        ranges.push(0..0);
+    }
+    ranges
+}
+
+/// `work` of every job, in order, each job on its own scoped thread marked
+/// as a parallel loop's; a job's panic resumes on the caller.
+pub(crate) fn run_marked<J: Send, T: Send>(jobs: Vec<J>, work: &(dyn Fn(J) -> T + Sync)) -> Vec<T> {
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (jobs.into_iter())
+            .map(|job| spawn_marked(scope, move || work(job)))
+            .collect();
+        (handles.into_iter())
+            .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .collect()
+    })
+}
+
 /// `f` of every item, in order, the items split into up to `threads`
 /// contiguous chunks, one scoped thread each.
 pub(crate) fn map_in_threads<U: Sync, T: Send>(
@@ -36,25 +64,14 @@ pub(crate) fn map_in_threads<U: Sync, T: Send>(
     threads: usize,
     f: &(dyn Fn(&U) -> T + Sync),
 ) -> Vec<T> {
-    let threads = threads.clamp(1, items.len().max(1));
-    if threads == 1 {
+    if threads.clamp(1, items.len().max(1)) == 1 {
         return items.iter().map(f).collect();
     }
-    let chunk = items.len().div_ceil(threads);
-    let mut results: Vec<Option<T>> = items.iter().map(|_| None).collect();
-    std::thread::scope(|scope| {
-        for (slot, work) in results.chunks_mut(chunk).zip(items.chunks(chunk)) {
-            spawn_marked(scope, move || {
-                for (r, item) in slot.iter_mut().zip(work) {
-                    *r = Some(f(item));
-                }
-            });
-        }
-    });
-    results
-        .into_iter()
-        .map(|r| r.expect("every chunk's thread fills its slots"))
-        .collect()
+    let chunks: Vec<&[U]> = (ranges(items.len(), threads).into_iter())
+        .map(|range| &items[range])
+        .collect();
+    let mapped = run_marked(chunks, &|chunk| chunk.iter().map(f).collect::<Vec<T>>());
+    mapped.into_iter().flatten().collect()
 }
 
 #[cfg(test)]
@@ -67,6 +84,19 @@ mod tests {
         for threads in [0, 1, 2, 3, 11, 40] {
             let squares = map_in_threads(&items, threads, &|i| i * i);
             assert_eq!(squares, items.iter().map(|i| i * i).collect::<Vec<_>>());
+        }
+    }
+
+    #[test]
+    fn ranges_cover_the_count_in_order() {
+        for (count, threads) in [(0, 2), (1, 3), (7, 1), (7, 2), (7, 3), (10, 4), (3, 40)] {
+            let ranges = ranges(count, threads);
+            assert!(
+                ranges.len() <= threads.max(1),
+                "{count} in {threads}: {ranges:?}"
+            );
+            let joined: Vec<usize> = ranges.iter().cloned().flatten().collect();
+            assert_eq!(joined, (0..count).collect::<Vec<_>>());
         }
     }
 

@@ -81,6 +81,7 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
     let mut failures = 0;
     let mut reach = String::from("–");
     let mut aimed: Option<Curve> = None;
+    let mut stages = Vec::new();
     for seed in 1..=args.runs as u64 {
         let settings = UserSettings {
             fidelity: setting.fidelity,
@@ -99,6 +100,9 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
             Ok(o) => {
                 let wall_s = started.elapsed().as_secs_f64();
                 reach = verdict(&o);
+                if stages.is_empty() {
+                    stages = o.stage_times.iter().map(|t| (t.stage, t.seconds)).collect();
+                }
                 // The target the runs aimed at: smoothed as they smoothed
                 // it, the same for every seed.
                 if aimed.is_none() {
@@ -135,6 +139,7 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
         },
         reach,
         failures,
+        stages,
     })
 }
 

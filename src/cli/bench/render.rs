@@ -3,6 +3,8 @@
 
 use patchwork_core::chart::{self, Axis, COLOURS, Mark, Panel, Series};
 
+use patchwork_core::inverse::StageName;
+
 use super::row::Row;
 
 /// The rows as a Markdown table under the command that measured them.
@@ -11,12 +13,12 @@ pub fn table(rows: &[Row], command: &str) -> String {
         "`{command}` — medians over the runs\n\n\
          Shape error on the run's own verification model, and of its design \
          re-simulated on the common reference model (uniform 0.5 mm).\n\n\
-         | curve | setting | wall s | evaluations | shape error % (own) | shape error % (reference) | against the clean curve % | DTW κ | DTW τ | patches | beyond limits | within reach | failed runs |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+         | curve | setting | wall s | evaluations | shape error % (own) | shape error % (reference) | against the clean curve % | DTW κ | DTW τ | patches | beyond limits | within reach | failed runs | seconds per stage (first run) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
     );
     for r in rows {
         out.push_str(&format!(
-            "| {} | {} | {:.2} | {:.0} | {:.2} | {:.2} | {} | {:.3} | {:.3} | {:.0} | {:.0} | {} | {} |\n",
+            "| {} | {} | {:.2} | {:.0} | {:.2} | {:.2} | {} | {:.3} | {:.3} | {:.0} | {:.0} | {} | {} | {} |\n",
             r.curve,
             r.setting,
             r.figures.wall_s,
@@ -32,10 +34,37 @@ pub fn table(rows: &[Row], command: &str) -> String {
             r.figures.patches,
             r.figures.beyond_limits,
             r.reach,
-            r.failures
+            r.failures,
+            (r.stages.iter())
+                .map(|(stage, s)| format!("{} {s:.1}", stage.as_str()))
+                .collect::<Vec<_>>()
+                .join(", ")
         ));
     }
     out
+}
+
+/// Where one setting's time went over all its curves' first runs: each
+/// stage's share of the summed stage seconds, largest first ("search 41 %,
+/// refine 33 %, …"); empty without stage times.
+pub fn stage_shares(rows: &[Row], setting: &str) -> String {
+    let mut totals: Vec<(StageName, f64)> = Vec::new();
+    for (stage, seconds) in rows
+        .iter()
+        .filter(|r| r.setting == setting)
+        .flat_map(|r| &r.stages)
+    {
+        match totals.iter_mut().find(|(s, _)| s == stage) {
+            Some((_, total)) => *total += seconds,
+            None => totals.push((*stage, *seconds)),
+        }
+    }
+    let all: f64 = totals.iter().map(|(_, s)| s).sum();
+    totals.sort_by(|a, b| b.1.total_cmp(&a.1));
+    (totals.iter())
+        .map(|(stage, s)| format!("{} {:.0} %", stage.as_str(), 100.0 * s / all))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Shape error against wall time (log scale), a colour per curve, each
@@ -102,4 +131,40 @@ pub fn plot(rows: &[Row]) -> String {
         ),
         series,
     }])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::bench::row::Sample;
+
+    fn row(setting: &str, stages: Vec<(StageName, f64)>) -> Row {
+        Row {
+            curve: "c".into(),
+            setting: setting.into(),
+            figures: Sample::unknown(),
+            reach: String::new(),
+            failures: 0,
+            stages,
+        }
+    }
+
+    /// Shares sum a setting's stages over its curves, largest first, and
+    /// leave the other settings' out.
+    #[test]
+    fn stage_shares_sum_one_setting_over_its_curves() {
+        let rows = [
+            row(
+                "draft",
+                vec![(StageName::Search, 3.0), (StageName::Refine, 1.0)],
+            ),
+            row(
+                "draft",
+                vec![(StageName::Search, 1.0), (StageName::Refine, 5.0)],
+            ),
+            row("standard", vec![(StageName::Spread, 100.0)]),
+        ];
+        assert_eq!(stage_shares(&rows, "draft"), "refine 60 %, search 40 %");
+        assert_eq!(stage_shares(&rows, "fine"), "");
+    }
 }

@@ -38,6 +38,7 @@ pub fn rows(text: &str) -> Result<Vec<Row>> {
             },
             reach: String::new(),
             failures: 0,
+            stages: Vec::new(),
         });
     }
     Ok(rows)

@@ -15,7 +15,7 @@ use super::args::BenchArgs;
 use super::cases::Suite;
 use super::forward::{self, ForwardRow};
 use super::measure::measure_suite;
-use super::render::{plot, table};
+use super::render::{plot, stage_shares, table};
 use super::row::{Row, median};
 use super::sureness::{self, SureRow};
 use super::text::{header, known_limits};
@@ -183,6 +183,10 @@ fn curve_section(rows: &[Row], out: &Path) -> String {
             d.reach,
             d.figures.wall_s
         ));
+    }
+    s.push_str("\nWhere the time goes, each stage's share of all the curves' seconds:\n\n");
+    for setting in ["draft", "standard"] {
+        s.push_str(&format!("- `{setting}`: {}\n", stage_shares(rows, setting)));
     }
     s
 }
@@ -369,6 +373,7 @@ mod tests {
             },
             reach: reach.into(),
             failures: 0,
+            stages: Vec::new(),
         }
     }
 

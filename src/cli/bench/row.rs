@@ -1,6 +1,8 @@
 //! What a bench measures of one curve under one setting: its figures, the
 //! reach verdict and the failures.
 
+use patchwork_core::inverse::StageName;
+
 /// One curve under one setting: medians over the runs.
 pub struct Row {
     pub curve: String,
@@ -10,6 +12,9 @@ pub struct Row {
     /// The reach stage's verdict: "yes", or the stretches out of reach.
     pub reach: String,
     pub failures: usize,
+    /// Seconds each stage of the first finished run took, in the plan's
+    /// order (empty when unknown).
+    pub stages: Vec<(StageName, f64)>,
 }
 
 /// One run's figures (or their medians over the runs).
