@@ -114,18 +114,6 @@ impl Model {
         self
     }
 
-    /// This model starting every element's inner solves (thickness, a cut
-    /// element's jump) from what they found last (`material::kept`): for a
-    /// model whose triangles are each evaluated by one thread at a time (a
-    /// solve's own).
-    pub fn keeping_starts(mut self) -> Model {
-        let materials = self.materials.len();
-        for section in &mut self.sections {
-            section.keep_starts(materials);
-        }
-        self
-    }
-
     /// Sections with patch stiffness scaled by `s` ∈ [0, 1] (continuation).
     pub fn sections_at(&self, design: &Design, s: f64) -> Vec<Section> {
         if s >= 1.0 {

@@ -15,7 +15,7 @@
 
 use super::laminate::{Laminate, Layer};
 use crate::design::{Bonding, Design};
-use crate::material::{Kept, KeptPerMaterial, Material, Response};
+use crate::material::{Material, Response};
 
 pub const WALL: usize = 0;
 pub const PATCH: usize = 1;
@@ -41,9 +41,6 @@ pub struct Section {
     pub layers: Vec<Layer>,
     /// The cut element's laminate and its weight c ∈ (0, 1].
     pub laminate: Option<(Laminate, f64)>,
-    /// The layers' last ln J per material, where their thickness solves
-    /// start (empty: from J = 1; [`Section::keep_starts`]).
-    kept: KeptPerMaterial,
 }
 
 /// Where and how patches cover one element.
@@ -95,17 +92,13 @@ impl Section {
             let laminate = Laminate::new(share, cover.normal, covered, bare, materials);
             (laminate, cover.coherence)
         });
-        Section {
-            layers,
-            laminate,
-            kept: Vec::new(),
-        }
+        Section { layers, laminate }
     }
 
     /// ψ(C) per unit reference area and its derivatives in (c₁₁, c₂₂, c₁₂);
     /// `None` outside a material's domain.
     pub fn response(&self, c: [f64; 3], materials: &[Material]) -> Option<Response> {
-        let average = layers_response(&self.layers, c, materials, &self.kept)?;
+        let average = layers_response(&self.layers, c, materials)?;
         let Some((laminate, weight)) = &self.laminate else {
             return Some(average);
         };
@@ -124,7 +117,7 @@ impl Section {
         let average: f64 = self
             .layers
             .iter()
-            .map(|l| l.thickness * materials[l.material].energy_kept(c, self.kept.get(l.material)))
+            .map(|l| l.thickness * materials[l.material].energy(c))
             .sum();
         match &self.laminate {
             None => average,
@@ -140,17 +133,6 @@ impl Section {
         Section {
             layers,
             laminate: None,
-            kept: Vec::new(),
-        }
-    }
-
-    /// Starts every inner solve of this element (its layers' thickness, its
-    /// laminate's jump and phases' thickness) from what the last one found
-    /// (`material::kept`); `materials`: how many its layers refer to.
-    pub fn keep_starts(&mut self, materials: usize) {
-        self.kept = vec![Kept::default(); materials];
-        if let Some((laminate, _)) = &mut self.laminate {
-            laminate.keep_starts(materials);
         }
     }
 }
@@ -163,21 +145,15 @@ pub fn materials(design: &Design) -> Vec<Material> {
     ]
 }
 
-/// Σ t W(C) over a stack of layers, with derivatives; each material's
-/// thickness solve starts from its `kept` ln J, where there is one.
-pub fn layers_response(
-    layers: &[Layer],
-    c: [f64; 3],
-    materials: &[Material],
-    kept: &[Kept<1>],
-) -> Option<Response> {
+/// Σ t W(C) over a stack of layers, with derivatives.
+pub fn layers_response(layers: &[Layer], c: [f64; 3], materials: &[Material]) -> Option<Response> {
     let mut sum = Response {
         energy: 0.0,
         gradient: [0.0; 3],
         hessian: [[0.0; 3]; 3],
     };
     for layer in layers {
-        let r = materials[layer.material].response_kept(c, kept.get(layer.material));
+        let r = materials[layer.material].response(c);
         if !r.is_admissible() {
             return None;
         }

@@ -172,9 +172,7 @@ pub fn simulate_with(
             pressure_kpa: design.pressure_kpa,
         })?;
     let mesh = TubeMesh::for_design(design, options.mesh);
-    let model = Model::new(design, mesh, options.cut_elements)
-        .with_threads(options.threads)
-        .keeping_starts();
+    let model = Model::new(design, mesh, options.cut_elements).with_threads(options.threads);
     let setup = Instant::now();
     let solver = Solver::new(&model, patterns).map_err(|reason| SimulateError::Solve {
         stiffness: 0.0,

@@ -23,14 +23,12 @@
 
 pub mod hyper;
 mod json;
-mod kept;
 mod models;
 mod plane_stress;
 mod thickness;
 mod volumetric;
 
 pub use hyper::Hyper;
-pub use kept::{Kept, KeptPerMaterial};
 pub use volumetric::{ABAQUS_EXPLICIT_BULK_RATIO, Compressibility};
 
 /// A membrane material, as written in design JSON:
@@ -171,18 +169,12 @@ impl Material {
 
     /// W(C) with exact derivatives.
     pub fn response(&self, c: [f64; 3]) -> Response {
-        self.response_kept(c, None)
-    }
-
-    /// [`Material::response`], its thickness solve started from the ln J
-    /// that `kept` holds and the one found kept there ([`kept`]).
-    pub fn response_kept(&self, c: [f64; 3], kept: Option<&Kept<1>>) -> Response {
         let vars = [
             Hyper::variable(c[0], 0),
             Hyper::variable(c[1], 1),
             Hyper::variable(c[2], 2),
         ];
-        match self.energy_in_kept(vars, kept) {
+        match self.energy_in(vars) {
             Some(w) => Response {
                 energy: w.value,
                 gradient: w.gradient,
@@ -200,15 +192,9 @@ impl Material {
     /// variables (a laminate's phases) gets W's derivatives in those variables.
     /// `None` outside the domain.
     pub fn energy_in<T: hyper::Real>(&self, c: [T; 3]) -> Option<T> {
-        self.energy_in_kept(c, None)
-    }
-
-    /// [`Material::energy_in`], its thickness solve started from the ln J
-    /// that `kept` holds and the one found kept there.
-    pub fn energy_in_kept<T: hyper::Real>(&self, c: [T; 3], kept: Option<&Kept<1>>) -> Option<T> {
         let w = match self.volumetric() {
             None => models::incompressible(&self.law, c),
-            Some(u) => plane_stress::condensed(&self.law, &u, c, kept),
+            Some(u) => plane_stress::condensed(&self.law, &u, c),
         };
         w.filter(|w| hyper::Real::value(w).is_finite())
     }
@@ -216,13 +202,7 @@ impl Material {
     /// W only, in plain `f64` arithmetic (the line search's hot path); +∞
     /// outside the domain.
     pub fn energy(&self, c: [f64; 3]) -> f64 {
-        self.energy_kept(c, None)
-    }
-
-    /// [`Material::energy`] with a kept thickness start (as
-    /// [`Material::response_kept`]).
-    pub fn energy_kept(&self, c: [f64; 3], kept: Option<&Kept<1>>) -> f64 {
-        self.energy_in_kept(c, kept).unwrap_or(f64::INFINITY)
+        self.energy_in(c).unwrap_or(f64::INFINITY)
     }
 
     /// The thickness stretch λ₃ at in-plane C (from σ₃₃ = 0), `None` outside

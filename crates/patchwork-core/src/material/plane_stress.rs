@@ -12,11 +12,11 @@
 //! caller's own variables (a laminate's jump) get them by the chain rule
 //! through a second-order Taylor composition ([`compose`]).
 
+use super::Law;
 use super::hyper::{Hyper, Real};
 use super::models::deviatoric;
 use super::thickness;
 use super::volumetric::Volumetric;
-use super::{Kept, Law};
 
 /// W(C, c₃₃) for a compressible material; `None` outside the domain.
 fn energy<T: Real>(model: &Law, u: &Volumetric, c: [T; 3], c33: T) -> Option<T> {
@@ -32,7 +32,7 @@ fn energy<T: Real>(model: &Law, u: &Volumetric, c: [T; 3], c33: T) -> Option<T> 
 
 /// c₃₃ = λ₃² with ∂W/∂c₃₃ = 0 at in-plane C, or `None` outside the domain.
 pub(super) fn thickness_c33(model: &Law, u: &Volumetric, c: [f64; 3]) -> Option<f64> {
-    let (ln_j, _) = thickness::solve(model, u, c, 0.0)?;
+    let (ln_j, _) = thickness::solve(model, u, c)?;
     Some(c33_of(ln_j, c))
 }
 
@@ -41,21 +41,10 @@ fn c33_of(ln_j: f64, c: [f64; 3]) -> f64 {
     (2.0 * ln_j).exp() / (c[0] * c[1] - c[2] * c[2])
 }
 
-/// W̄(C) = W(C, c₃₃(C)) in any number type, with exact derivatives; the
-/// thickness solve starts from the ln J `kept` holds (J = 1 without), and
-/// keeps the one it finds there.
-pub(super) fn condensed<T: Real>(
-    model: &Law,
-    u: &Volumetric,
-    c: [T; 3],
-    kept: Option<&Kept<1>>,
-) -> Option<T> {
+/// W̄(C) = W(C, c₃₃(C)) in any number type, with exact derivatives.
+pub(super) fn condensed<T: Real>(model: &Law, u: &Volumetric, c: [T; 3]) -> Option<T> {
     let c0 = c.map(|x| x.value());
-    let start = kept.map_or(0.0, |k| k.get()[0]);
-    let (ln_j, w) = thickness::solve(model, u, c0, start)?;
-    if let Some(k) = kept {
-        k.set([ln_j]);
-    }
+    let (ln_j, w) = thickness::solve(model, u, c0)?;
     if !T::CARRIES_DERIVATIVES {
         return w.is_finite().then(|| T::constant(w));
     }
@@ -154,32 +143,6 @@ mod tests {
             let i1 = c[0] + c[1] + c33;
             let sigma_j = j.powf(-2.0 / 3.0) * (c33 - i1 / 3.0) + k * (j - 1.0) * j;
             assert!(sigma_j.abs() < 1e-10, "C {c:?}: σ33 J = {sigma_j}");
-        }
-    }
-
-    /// A thickness solve started from a kept ln J, near or far, finds the
-    /// cold solve's W to rounding, and keeps its own ln J.
-    #[test]
-    fn a_kept_start_changes_the_start_not_the_energy() {
-        let (model, u) = compressible_neo_hookean();
-        for c in [[4.0, 2.0, 0.5], [27.0, 13.5, 0.0], [0.6, 1.3, 0.1]] {
-            let cold: f64 = condensed(&model, &u, c, None).unwrap();
-            let ln_j =
-                0.5 * (thickness_c33(&model, &u, c).unwrap() * (c[0] * c[1] - c[2] * c[2])).ln();
-            for start in [ln_j + 1e-3, 1.4, -0.7] {
-                let kept = Kept::default();
-                kept.set([start]);
-                let warm: f64 = condensed(&model, &u, c, Some(&kept)).unwrap();
-                assert!(
-                    (warm - cold).abs() <= 1e-12 * cold.abs().max(1.0),
-                    "C {c:?} from {start}"
-                );
-                assert!(
-                    (kept.get()[0] - ln_j).abs() < 1e-10,
-                    "C {c:?} kept {:?}",
-                    kept.get()
-                );
-            }
         }
     }
 

@@ -93,10 +93,9 @@ fn along(law: &Law, u: &Volumetric, c: &InPlane, y: f64) -> Option<Jet> {
 }
 
 /// ln J with ∂W/∂(ln J) = 0 (σ₃₃ = 0) at in-plane C, and W there; `None`
-/// outside the domain. Newton from ln J = `start` (0, the incompressible
-/// thickness J = 1, where `start` is past a locking limit), kept inside a
-/// bracket on the sign of W′.
-pub(super) fn solve(law: &Law, u: &Volumetric, c: [f64; 3], start: f64) -> Option<(f64, f64)> {
+/// outside the domain. Newton from J = 1 (the incompressible thickness),
+/// kept inside a bracket on the sign of W′.
+pub(super) fn solve(law: &Law, u: &Volumetric, c: [f64; 3]) -> Option<(f64, f64)> {
     let det = c[0] * c[1] - c[2] * c[2];
     if !(det > 0.0 && c[0] > 0.0 && c[1] > 0.0) {
         return None;
@@ -121,10 +120,8 @@ pub(super) fn solve(law: &Law, u: &Volumetric, c: [f64; 3], start: f64) -> Optio
         ogden,
     };
     let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-    let (mut y, mut w) = match along(law, u, &c, start).filter(|_| start.is_finite()) {
-        Some(w) => (start, w),
-        None => (0.0, along(law, u, &c, 0.0)?),
-    };
+    let mut y = 0.0;
+    let mut w = along(law, u, &c, y)?;
     let mut previous = f64::INFINITY;
     for _ in 0..MAX_ITERATIONS {
         if w.1 < 0.0 {
