@@ -41,34 +41,19 @@ impl Model {
 
     /// Total potential Π; +∞ outside the materials' domain.
     pub fn potential(&self, x: &[Point], sections: &[Section]) -> f64 {
-        let energy = |t: usize| {
-            let tri = &self.triangles[t];
-            tri.energy(&self.corners(x, t), &sections[t], &self.materials)
-        };
-        let mut strain = 0.0;
-        if self.serial() {
-            // Summed as they come, stopping at the first step outside a
-            // material's domain (a rejected line-search trial).
-            for t in 0..self.triangles.len() {
-                strain += energy(t);
-                if !strain.is_finite() {
-                    return f64::INFINITY;
-                }
+        let mut energies = vec![0.0; self.triangles.len()];
+        self.in_chunks(&mut energies, &mut [], &|range, energies, _| {
+            for (t, energy) in range.zip(energies) {
+                let tri = &self.triangles[t];
+                *energy = tri.energy(&self.corners(x, t), &sections[t], &self.materials);
             }
-        } else {
-            let mut energies = vec![0.0; self.triangles.len()];
-            self.in_chunks(&mut energies, &mut [], &|range, energies, _| {
-                for (t, e) in range.zip(energies) {
-                    *e = energy(t);
-                }
-                Some(())
-            });
-            strain = energies.iter().fold(0.0, |sum, e| sum + e);
-            if !strain.is_finite() {
-                return f64::INFINITY;
-            }
+            Some(())
+        });
+        let strain = energies.iter().fold(0.0, |sum, e| sum + e);
+        match strain.is_finite() {
+            true => strain - self.pressure * self.volume(x),
+            false => f64::INFINITY,
         }
-        strain - self.pressure * self.volume(x)
     }
 
     /// The (lower-triangle) sparsity pattern in the order [`Model::assemble`]
@@ -134,52 +119,30 @@ impl Model {
         let entries = self.value_offsets[self.triangles.len()];
         values.clear();
         values.resize(entries, 0.0);
+        let mut shares: Vec<Share> = vec![(0.0, [0.0; 9]); self.triangles.len()];
+        self.in_chunks(&mut shares, values, &|range, shares, values| {
+            let first = self.value_offsets[range.start];
+            for (t, share) in range.zip(shares) {
+                let slots = self.value_offsets[t] - first..self.value_offsets[t + 1] - first;
+                *share = self.triangle_share(x, t, &sections[t], pressure, &mut values[slots])?;
+            }
+            Some(())
+        })?;
+        // Summed in triangle order on one thread or many: the same bits.
         gradient.fill(0.0);
         let mut potential = 0.0;
-        let share =
-            |t: usize, slots: &mut [f64]| self.triangle_share(x, t, &sections[t], pressure, slots);
-        if self.serial() {
-            for t in 0..self.triangles.len() {
-                let slots = self.value_offsets[t]..self.value_offsets[t + 1];
-                let (energy, forces) = share(t, &mut values[slots])?;
-                self.add_share(t, (energy, &forces), &mut potential, gradient);
-            }
-        } else {
-            let mut shares: Vec<Share> = vec![(0.0, [0.0; 9]); self.triangles.len()];
-            self.in_chunks(&mut shares, values, &|range, shares, values| {
-                let first = self.value_offsets[range.start];
-                for (t, s) in range.zip(shares) {
-                    let slots = self.value_offsets[t] - first..self.value_offsets[t + 1] - first;
-                    *s = share(t, &mut values[slots])?;
+        for (tri, (energy, forces)) in self.triangles.iter().zip(&shares) {
+            potential += energy;
+            for (a, &node) in tri.nodes.iter().enumerate() {
+                if let Some(d) = self.dof[node] {
+                    for i in 0..3 {
+                        gradient[d + i] += forces[3 * a + i];
+                    }
                 }
-                Some(())
-            })?;
-            for (t, (energy, forces)) in shares.iter().enumerate() {
-                self.add_share(t, (*energy, forces), &mut potential, gradient);
             }
         }
         values.extend(std::iter::repeat_n(shift, self.dof_count));
         Some(potential)
-    }
-
-    /// Adds triangle `t`'s energy and forces to the totals. Shares are added
-    /// in triangle order on every path, so the sums' bits do not depend on
-    /// the thread count.
-    fn add_share(
-        &self,
-        t: usize,
-        (energy, forces): (f64, &[f64; 9]),
-        potential: &mut f64,
-        gradient: &mut [f64],
-    ) {
-        *potential += energy;
-        for (a, &node) in self.triangles[t].nodes.iter().enumerate() {
-            if let Some(d) = self.dof[node] {
-                for i in 0..3 {
-                    gradient[d + i] += forces[3 * a + i];
-                }
-            }
-        }
     }
 
     /// Triangle `t`'s share of Π and ∇Π at pressure `pressure`, its tangent
@@ -211,22 +174,21 @@ impl Model {
         Some((w - pressure * volume(&corners), forces))
     }
 
-    /// Whether assembly runs on the calling thread alone: one thread asked
-    /// for, or the caller already on a thread of a parallel loop.
-    fn serial(&self) -> bool {
-        self.threads.min(self.triangles.len()) <= 1 || nested()
-    }
-
     /// Runs `work` over the triangles split into up to `self.threads`
-    /// contiguous ranges, one thread each, each with its items of
-    /// `per_triangle` and its run of `values` (the tangent slots of its
-    /// triangles; `values` empty: none). `None` when any range's work is.
+    /// contiguous ranges, one thread each (all on the calling thread when
+    /// one is asked for or the caller is a parallel loop's), each with its
+    /// items of `per_triangle` and its run of `values` (the tangent slots of
+    /// its triangles; `values` empty: none). `None` when any range's work is.
     fn in_chunks<T: Send>(
         &self,
         per_triangle: &mut [T],
         values: &mut [f64],
         work: &RangeWork<'_, T>,
     ) -> Option<()> {
+        let count = self.triangles.len();
+        if self.threads.min(count) <= 1 || nested() {
+            return work(0..count, per_triangle, values);
+        }
         let mut jobs = Vec::with_capacity(self.threads);
         let (mut items, mut slots) = (per_triangle, values);
         for range in ranges(self.triangles.len(), self.threads) {
