@@ -560,6 +560,12 @@ fn design_rejects_bad_options_in_one_line() {
         &patchwork(&["design", hilbert, "--out", "/tmp/x", "--fidelity", "ultra"]),
         "--fidelity",
     );
+    for limit in ["0", "-5", "NaN", "1e9"] {
+        assert_one_line_error(
+            &patchwork(&["design", hilbert, "--out", "/tmp/x", "--time-limit", limit]),
+            "--time-limit",
+        );
+    }
     for (tolerances, needle) in [
         (r#"{"angle_deg": -1}"#, "--tolerances: angle_deg"),
         (r#"{"angle": 1}"#, "--tolerances: unknown field `angle`"),

@@ -1,6 +1,6 @@
 //! `patchwork design CURVE --out DIR [--fidelity draft|standard|fine] [--seed S]
 //! [--budget EVALS] [--options JSON] [--bounds JSON] [--fix-length] [--threads N]
-//! [--checkpoint FILE] [--json] [--tuning JSON]`.
+//! [--checkpoint FILE] [--json] [--tuning JSON] [--time-limit SECONDS]`.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -74,6 +74,12 @@ pub struct DesignFlags {
     /// "pressure_kpa": 0.5, "wall_percent": 5, "modulus_percent": 3}.
     #[arg(long, value_name = "JSON")]
     tolerances: Option<String>,
+    /// Seconds the whole run may take: once they have passed, the stage
+    /// under way stops at its next step with its best design so far, the
+    /// later stages but the verification are skipped, and the summary and
+    /// design.json say what was cut short [default: none].
+    #[arg(long, value_name = "SECONDS")]
+    time_limit: Option<f64>,
 }
 
 /// Writes the checkpoint to a temporary file and renames it over the old one,
@@ -127,6 +133,7 @@ impl DesignFlags {
                 Some(argument) => json_argument("tolerances", argument)?,
                 None => Default::default(),
             },
+            time_limit_s: self.time_limit,
         };
         let overrides: TuningOverrides = match &self.tuning {
             Some(argument) => json_argument("tuning", argument)?,
@@ -142,6 +149,7 @@ fn flag_error(error: SettingsError) -> anyhow::Error {
     let flag = match field.as_str() {
         "budget" | "threads" => field,
         "smoothing" => "smooth-mm".into(),
+        "time_limit_s" => "time-limit".into(),
         f if f.starts_with("tuning.") => {
             return anyhow::anyhow!("--tuning: {}: {reason}", &f["tuning.".len()..]);
         }

@@ -1,6 +1,7 @@
 //! The summary `patchwork design` prints: lengths, errors, what was done
 //! to the target and where it is out of reach, the spread at the
-//! tolerances, the stages, limits hit and the patches.
+//! tolerances, the stages and what a time limit cut short, limits hit
+//! and the patches.
 
 use patchwork_core::fe::contact::SelfContact;
 use patchwork_core::inverse::layout::LayoutTrial;
@@ -33,6 +34,12 @@ pub fn summary(r: &DesignReport, dir: &std::path::Path) -> String {
         r.termination
     );
     s.push_str(&stages_line(r));
+    if let Some(limited) = &r.time_limited {
+        s.push_str(&format!(
+            "time limit:   {} (the design is the best found by then, verified)\n",
+            limited.message()
+        ));
+    }
     s.push_str(&input_line(&r.input));
     s.push_str(&cleared_line(&r.input));
     s.push_str(&as_given_line(r));

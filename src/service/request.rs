@@ -57,6 +57,12 @@ pub struct JobOptions {
     /// curve as given); absent: chosen from the noise found on its points.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub smooth_mm: Option<f64>,
+    /// Seconds the whole run may take (absent: no limit): once passed, the
+    /// stage under way stops with its best design so far and the later
+    /// stages but the verification are skipped; the result's
+    /// `time_limited` says what was cut short.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_limit_s: Option<f64>,
 }
 
 /// `POST /v1/jobs`.
@@ -149,6 +155,7 @@ impl JobRequest {
             // One job per worker, one worker per core.
             threads: 1,
             tolerances: self.tolerances.unwrap_or_default(),
+            time_limit_s: self.options.time_limit_s,
         };
         check_smoothing(&target, settings.smoothing)
             .map_err(|e| SettingsError::new("options.smooth_mm", e.to_string()))?;
@@ -162,6 +169,7 @@ fn request_field(error: SettingsError) -> SettingsError {
     let field = match field.as_str() {
         "budget" => "options.budget".to_string(),
         "smoothing" => "options.smooth_mm".to_string(),
+        "time_limit_s" => "options.time_limit_s".to_string(),
         _ => field,
     };
     SettingsError { field, reason }

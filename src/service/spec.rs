@@ -163,6 +163,7 @@ impl DesignSpec {
             threads: s.threads,
             tuning: self.overrides.clone(),
             tolerances: s.tolerances,
+            time_limit_s: s.time_limit_s,
         }
     }
 
@@ -184,6 +185,7 @@ impl DesignSpec {
             smoothing: stored.smoothing,
             threads: stored.threads,
             tolerances: stored.tolerances,
+            time_limit_s: stored.time_limit_s,
         };
         DesignSpec::new(target, settings, stored.tuning)
             .map_err(|e| SpecError::Invalid(e.to_string()))
@@ -232,6 +234,9 @@ struct StoredDesign {
     /// The spread's tolerances (specs stored before them: the defaults).
     #[serde(default)]
     tolerances: Tolerances,
+    /// The run's time limit, seconds (specs stored before it: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    time_limit_s: Option<f64>,
 }
 
 #[cfg(test)]
@@ -257,6 +262,7 @@ mod tests {
             budget: Some(37),
             fix_length: true,
             smoothing: Smoothing::Sigma(0.7),
+            time_limit_s: Some(45.0),
             ..UserSettings::default()
         };
         settings.base.pressure_kpa = 21.5;

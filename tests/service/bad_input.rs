@@ -190,6 +190,14 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "options.smooth_mm",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "options": {"time_limit_s": 0}}),
+            "options.time_limit_s",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "options": {"time_limit_s": 1e7}}),
+            "options.time_limit_s",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "design": {"pressure_kpa": -5}}),
             "design.pressure_kpa",
         ),

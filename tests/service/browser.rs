@@ -382,6 +382,43 @@ async fn a_malformed_csv_shows_the_servers_message() {
     page.quit().await;
 }
 
+/// The form's time limit reaches the run: a limit spent by the time the
+/// seed is placed leaves the seed's design, verified, and the result says
+/// what the limit cut short.
+#[tokio::test(flavor = "multi_thread")]
+async fn a_time_limit_from_the_form_cuts_the_run_short_and_says_so() {
+    let server = Server::start();
+    let driver = Driver::start();
+    let dir = tempfile::tempdir().unwrap();
+    let csv = write_csv(dir.path(), &["hook"]);
+    let page = open(&driver, &server, dir.path()).await;
+    page.click("[data-source=file]").await;
+    page.choose_file("#curve-file", &csv).await;
+    page.wait_text("#curve-info", "the curve's length", |t| {
+        t.contains("mm long")
+    })
+    .await;
+    page.select("#fidelity", "draft").await;
+    page.type_into("#time-limit", "0.001").await;
+    page.click("#submit").await;
+    page.wait_text_for("#job-status", "success", Duration::from_secs(120), |t| {
+        t == "succeeded"
+    })
+    .await;
+    let facts = page
+        .wait_text("#job-facts", "the result's facts", |t| {
+            t.contains("shape error")
+        })
+        .await;
+    assert!(facts.contains("reached in the seed"), "{facts}");
+    assert!(facts.contains("skipped: reach, search"), "{facts}");
+    let limited = page
+        .execute("return window.patchwork.result.time_limited", json!([]))
+        .await;
+    assert_eq!(limited["limit_s"], json!(0.001), "{limited}");
+    page.quit().await;
+}
+
 /// With API keys: the page asks for one, says when a key is refused, and
 /// lists only the jobs of the key it was given.
 #[tokio::test(flavor = "multi_thread")]

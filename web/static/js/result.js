@@ -31,6 +31,15 @@ function cleared(result) {
     `a tube of radius ${num(c.radius_mm, 3)} mm along the curve would pass ${num(c.overlap_mm, 3)} mm into itself; the design aims at the nearest clear curve, moved up to ${num(c.moved_max_mm, 3)} mm (${num(c.moved_rms_mm, 3)} mm RMS)${c.converged ? "" : ", not wholly clear"}`]];
 }
 
+// What the run's time limit cut short: the stage under way and the stages
+// skipped (the design shown is the best found by then, verified).
+function timeLimited(result) {
+  const t = result.time_limited;
+  if (!t) return [];
+  const skipped = t.skipped.length ? `; skipped: ${t.skipped.join(", ").replaceAll("_", " ")}` : "";
+  return [["time limit", `${t.limit_s} s, reached in the ${t.reached_in.replaceAll("_", " ")}${skipped}: the design is the best found by then, verified`]];
+}
+
 // Where the shape error is above 1 %, the causes the run found, in the
 // server's words.
 function shortfalls(result) {
@@ -112,6 +121,7 @@ export async function showResult(page, jobId, result, preview) {
   const facts = $("#job-facts");
   const rows = [
     ["shape error", `${num(m.shape_error_percent, 3)} % of the length (${num(m.shape_error_mm, 3)} mm RMS)`],
+    ...timeLimited(result),
     ...asGiven(result),
     ...cleared(result),
     ...shortfalls(result),

@@ -1,4 +1,4 @@
-// The design form: fidelity, seed, budget, balloon profile or balloon,
+// The design form: fidelity, seed, budget, time limit, balloon profile or balloon,
 // patches and bounds, the tolerances of the spread, keeping clear of itself,
 // sent with the curve as POST /v1/jobs. The server's validation errors go
 // beside the field they name.
@@ -10,6 +10,7 @@ import { $, clearFieldErrors, showFieldError } from "./dom.js";
 const NUMBERS = [
   ["#seed", ["options", "seed"]],
   ["#budget", ["options", "budget"]],
+  ["#time-limit", ["options", "time_limit_s"]],
   ["#radius", ["design", "balloon", "radius_mm"]],
   ["#wall", ["design", "balloon", "wall_mm"]],
   ["#pressure", ["design", "pressure_kpa"]],

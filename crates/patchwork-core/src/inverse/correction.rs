@@ -130,6 +130,9 @@ pub(super) fn refine_corrected(
             break;
         }
         best = verified;
+        if problem.deadline.passed() {
+            break;
+        }
     }
     totals.shape_error_after_percent = best.error;
     Ok(Refined {

@@ -13,7 +13,7 @@ use super::clearing::target_to_aim_at;
 use super::errors::DesignRunError;
 use super::input::prepare;
 use super::limits::at_limits;
-use super::outcome::{DesignOutcome, DesignProgress, SearchEnd, StageName, StageTime};
+use super::outcome::{DesignOutcome, DesignProgress, SearchEnd, StageName, StageTime, TimeLimited};
 use super::plan::Plan;
 use super::run::{Context, Observer, Run, Setup};
 use super::shortfall::{RunFacts, shortfalls};
@@ -46,7 +46,8 @@ pub fn design_resumable(
     observer: &mut dyn Observer,
 ) -> Result<DesignOutcome, DesignRunError> {
     let earlier_s = resume.as_ref().map_or(0.0, |c| c.elapsed_s);
-    let mut ctx = Context::new(cancel, caches, observer, earlier_s);
+    let limit_s = plan.settings().time_limit_s;
+    let mut ctx = Context::new(cancel, caches, observer, earlier_s, limit_s);
     let given = target;
     let (prepared, mut input) = prepare(given, plan.settings().smoothing, plan.tuning().kappa_tol)
         .map_err(DesignRunError::Input)?;
@@ -65,8 +66,12 @@ pub fn design_resumable(
         seconds: ctx.elapsed_s() - started,
         evaluations: run.state.evaluations - evaluations,
     }];
+    note_time_limit(&mut run, StageName::Seed, &ctx);
     for stage in plan.stages() {
         ctx.check_cancelled()?;
+        if skipped_for_time(&mut run, stage.name()) {
+            continue;
+        }
         let (started, before) = (ctx.elapsed_s(), run.state.evaluations);
         ctx.entering(stage.name(), before, run.state.best_objective);
         stage.run(&mut run, &mut ctx)?;
@@ -75,8 +80,51 @@ pub fn design_resumable(
             seconds: ctx.elapsed_s() - started,
             evaluations: run.state.evaluations - before,
         });
+        note_time_limit(&mut run, stage.name(), &ctx);
     }
     outcome(run, given, times, &ctx)
+}
+
+/// Records `stage` as the one the time limit passed in, if it passed
+/// there (the stage stopped at its next step after it).
+fn note_time_limit(run: &mut Run<'_>, stage: StageName, ctx: &Context<'_>) {
+    if let (None, Some(limit_s), true) = (
+        &run.time_limited,
+        run.setup.settings.time_limit_s,
+        ctx.out_of_time(),
+    ) {
+        run.time_limited = Some(TimeLimited {
+            limit_s,
+            reached_in: stage,
+            skipped: Vec::new(),
+        });
+    }
+}
+
+/// Whether `stage` is skipped because the time limit has passed: every
+/// stage but the verification, which the outcome needs. A skipped stage
+/// whose report the outcome carries (the spread, the final and robust
+/// refines) says why it has none.
+fn skipped_for_time(run: &mut Run<'_>, stage: StageName) -> bool {
+    let Some(limited) = run.time_limited.as_mut() else {
+        return false;
+    };
+    if stage == StageName::Verify {
+        return false;
+    }
+    limited.skipped.push(stage);
+    let why = format!(
+        "the run's time limit ({} s) passed before the {} stage",
+        limited.limit_s,
+        stage.as_str()
+    );
+    match stage {
+        StageName::Spread => run.spread_failed = Some(why),
+        StageName::FinalRefine => run.final_refine_skipped = Some(why),
+        StageName::Robust => run.robust_skipped = Some(why),
+        _ => {}
+    }
+    true
 }
 
 /// The outcome of a run whose stages are done; `given` is the curve as the
@@ -105,6 +153,7 @@ fn outcome(
         robust_from_percent: (run.robust.as_ref())
             .filter(|r| r.kept)
             .map(|r| r.nominal_design.shape_error_percent),
+        time_limit_s: run.time_limited.as_ref().map(|t| t.limit_s),
     });
     let spread = run
         .spread
@@ -143,5 +192,10 @@ fn outcome(
         robust_skipped: run.robust_skipped,
         stage_times,
         elapsed: Duration::from_secs_f64(ctx.elapsed_s()),
+        time_limited: run.time_limited,
     })
 }
+
+#[cfg(test)]
+#[path = "time_limit_tests.rs"]
+mod tests;

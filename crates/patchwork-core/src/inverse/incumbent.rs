@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::caches::Caches;
+use super::deadline::Deadline;
 use super::objective::{ObjectiveOptions, TargetProfiles};
 use super::variables::DesignSpace;
 use crate::cmaes::{Bounds, RunOptions};
@@ -49,6 +50,9 @@ pub(super) struct Scorer<'a> {
     pub objective: &'a ObjectiveOptions,
     pub warm_starts: bool,
     pub cancel: &'a AtomicBool,
+    /// When the run's time limit passes: a stage's loop stops at the
+    /// generation after.
+    pub deadline: Deadline,
     pub caches: &'a Caches,
 }
 

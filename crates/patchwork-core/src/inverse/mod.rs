@@ -10,7 +10,9 @@
 //!
 //! Each stage is a small type in `stages/`, a [`Stage`] of the plan, known
 //! everywhere by its [`StageName`]; the executor announces each as it
-//! begins (`Observer::stage`). The numerical pieces they use:
+//! begins (`Observer::stage`). A user's time limit (`deadline.rs`) stops
+//! the stage under way at its next step and skips the later ones but the
+//! verification. The numerical pieces they use:
 //! the design variables and their bounds (`variables.rs`), the objective
 //! (`objective.rs`), CMA-ES's incumbent (`incumbent.rs`), the
 //! Levenberg–Marquardt refine (`refine.rs`) and its correction by a finer
@@ -21,6 +23,7 @@ mod caches;
 mod checkpoint;
 pub mod clearing;
 mod correction;
+mod deadline;
 mod errors;
 mod evaluation_cache;
 mod executor;
@@ -46,6 +49,7 @@ pub mod variables;
 pub use assess::assess;
 pub use caches::Caches;
 pub use checkpoint::DesignCheckpoint;
+pub use deadline::Deadline;
 pub use errors::{DesignRunError, SettingsError};
 pub use evaluation_cache::{CacheCounts, EvaluationCache};
 pub use executor::{design, design_resumable};
@@ -54,9 +58,9 @@ pub use limits::AtLimit;
 pub use objective::{ObjectiveOptions, TargetProfiles};
 pub use outcome::{
     AsGiven, DesignOutcome, DesignProgress, Expected, Metrics, Profiles, RefineSummary,
-    RobustSummary, SearchEnd, SearchStop, StageName, StageTime,
+    RobustSummary, SearchEnd, SearchStop, StageName, StageTime, TimeLimited,
 };
-pub use plan::{Plan, Stage};
+pub use plan::{MAX_TIME_LIMIT_S, Plan, Stage};
 pub use presets::{Fidelity, PRESETS, PresetRow};
 pub use report::DesignReport;
 pub use run::Observer;

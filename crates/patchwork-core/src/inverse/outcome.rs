@@ -89,6 +89,36 @@ pub struct StageTime {
     pub evaluations: usize,
 }
 
+/// A run that its time limit cut short: the stage under way when the
+/// limit passed, which stopped at its next step with its best design so
+/// far, and the stages skipped after it (the verification is never
+/// skipped: the design reported is always verified).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TimeLimited {
+    pub limit_s: f64,
+    pub reached_in: StageName,
+    pub skipped: Vec<StageName>,
+}
+
+impl TimeLimited {
+    /// In words, for the CLI and the web app: "60 s, reached in the refine;
+    /// layout and spread skipped".
+    pub fn message(&self) -> String {
+        let reached = format!(
+            "{} s, reached in the {}",
+            self.limit_s,
+            self.reached_in.as_str()
+        );
+        match self.skipped.is_empty() {
+            true => reached,
+            false => {
+                let skipped: Vec<&str> = self.skipped.iter().map(|s| s.as_str()).collect();
+                format!("{reached}; skipped: {}", skipped.join(", "))
+            }
+        }
+    }
+}
+
 /// Progress reported to the observer.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct DesignProgress {
@@ -114,10 +144,13 @@ pub enum SearchEnd {
 pub enum SearchStop {
     /// The best design did not improve within the search's patience.
     Stalled,
+    /// The run's time limit passed (`UserSettings::time_limit_s`).
+    TimeLimit,
 }
 
 impl SearchEnd {
     pub const STALLED: SearchEnd = SearchEnd::Search(SearchStop::Stalled);
+    pub const TIME_LIMIT: SearchEnd = SearchEnd::Search(SearchStop::TimeLimit);
 }
 
 impl std::fmt::Display for SearchEnd {
@@ -258,6 +291,9 @@ pub struct DesignOutcome {
     /// Each stage the run took in this process, in order, with its time.
     pub stage_times: Vec<StageTime>,
     pub elapsed: Duration,
+    /// What the time limit cut short; none when the run finished within
+    /// it (or had none).
+    pub time_limited: Option<TimeLimited>,
 }
 
 /// What the robust refine did: the design the nominal refine found and the

@@ -313,6 +313,9 @@ fn check_overrides(overrides: &TuningOverrides) -> Result<(), SettingsError> {
     Ok(())
 }
 
+/// The longest time limit a run may be given: a week, in seconds.
+pub const MAX_TIME_LIMIT_S: f64 = 604_800.0;
+
 /// Every setting a run would otherwise fail on late, naming the field
 /// (`mesh_field` names the field a model's mesh came from).
 fn check(
@@ -345,6 +348,16 @@ fn check(
     }
     if settings.threads == 0 {
         return Err(SettingsError::new("threads", "must be at least 1"));
+    }
+    if let Some(limit) = settings.time_limit_s
+        && !(limit.is_finite() && limit > 0.0 && limit <= MAX_TIME_LIMIT_S)
+    {
+        return Err(SettingsError::new(
+            "time_limit_s",
+            format!(
+                "must be a number of seconds above 0 and at most {MAX_TIME_LIMIT_S} (a week), got {limit}"
+            ),
+        ));
     }
     settings
         .tolerances

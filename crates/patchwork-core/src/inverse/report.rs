@@ -8,6 +8,7 @@ use super::layout::LayoutTrial;
 use super::limits::AtLimit;
 use super::outcome::{
     AsGiven, DesignOutcome, Metrics, Profiles, RefineSummary, RobustSummary, SearchEnd, StageTime,
+    TimeLimited,
 };
 use super::reach::ReachReport;
 use super::shortfall::Explained;
@@ -114,6 +115,11 @@ pub struct DesignReport {
     /// Why a planned robust refine did not run.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub robust_skipped: Option<String>,
+    /// Where the run's time limit (`time_limit_s`) cut it short: the stage
+    /// under way, which stopped with its best design so far, and the stages
+    /// skipped; absent when the run finished within its limit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_limited: Option<TimeLimited>,
 }
 
 impl DesignReport {
@@ -162,6 +168,7 @@ impl DesignReport {
             spread_failed: outcome.spread_failed.clone(),
             robust: outcome.robust.clone(),
             robust_skipped: outcome.robust_skipped.clone(),
+            time_limited: outcome.time_limited.clone(),
         }
     }
 }

@@ -9,11 +9,14 @@ use nalgebra::DMatrix;
 
 use super::caches::Caches;
 use super::checkpoint::DesignCheckpoint;
+use super::deadline::Deadline;
 use super::errors::DesignRunError;
 use super::input::InputReport;
 use super::layout::LayoutTrial;
 use super::objective::TargetProfiles;
-use super::outcome::{DesignProgress, RefineSummary, RobustSummary, SearchEnd, StageName};
+use super::outcome::{
+    DesignProgress, RefineSummary, RobustSummary, SearchEnd, StageName, TimeLimited,
+};
 use super::planar::flattened;
 use super::reach::ReachReport;
 use super::settings::UserSettings;
@@ -57,9 +60,12 @@ impl<F: FnMut(&DesignProgress)> Observer for F {
 }
 
 /// What the executor hands every stage besides the run: the cancel flag
-/// (polled before every evaluation), the caches, the clock, and the observer.
+/// (polled before every evaluation), the caches, the clock and the time
+/// limit, and the observer.
 pub struct Context<'a> {
     pub cancel: &'a AtomicBool,
+    /// When the run's time limit passes.
+    pub deadline: Deadline,
     /// The solves the run may share with others.
     pub caches: &'a Caches,
     observer: &'a mut dyn Observer,
@@ -74,9 +80,11 @@ impl<'a> Context<'a> {
         caches: &'a Caches,
         observer: &'a mut dyn Observer,
         earlier_s: f64,
+        time_limit_s: Option<f64>,
     ) -> Self {
         Context {
             cancel,
+            deadline: Deadline::after(time_limit_s, earlier_s),
             caches,
             observer,
             started: Instant::now(),
@@ -87,6 +95,11 @@ impl<'a> Context<'a> {
     /// Wall time of the run so far, over every process that ran it.
     pub fn elapsed_s(&self) -> f64 {
         self.earlier_s + self.started.elapsed().as_secs_f64()
+    }
+
+    /// Whether the run's time limit has passed.
+    pub fn out_of_time(&self) -> bool {
+        self.deadline.passed()
     }
 
     pub fn cancelled(&self) -> bool {
@@ -272,6 +285,8 @@ pub struct Run<'a> {
     /// The robust stage's summary, or why it did not run.
     pub robust: Option<RobustSummary>,
     pub robust_skipped: Option<String>,
+    /// What the time limit cut short, once it passed.
+    pub time_limited: Option<TimeLimited>,
 }
 
 impl<'a> Run<'a> {
@@ -304,6 +319,7 @@ impl<'a> Run<'a> {
             spread_state: None,
             robust: None,
             robust_skipped: None,
+            time_limited: None,
         }
     }
 

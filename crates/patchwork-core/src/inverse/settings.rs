@@ -1,7 +1,7 @@
 //! What a user chooses for a design run: the balloon and materials, the
 //! fidelity, the seed, the search budget, the fabrication bounds, which
-//! patch parameters may move, whether the balloon length is fixed, and the
-//! threads. Everything else is expert tuning (`tuning.rs`), fixed by the
+//! patch parameters may move, whether the balloon length is fixed, the
+//! threads and the run's time limit. Everything else is expert tuning (`tuning.rs`), fixed by the
 //! fidelity's preset (`presets.rs`).
 
 use super::input::Smoothing;
@@ -34,6 +34,12 @@ pub struct UserSettings {
     pub threads: usize,
     /// The fabrication and operating tolerances the spread is reported at.
     pub tolerances: Tolerances,
+    /// The run's wall time, seconds (none: no limit). Once it has passed,
+    /// the stage under way stops at its next step with its best design so
+    /// far, the later stages that would only improve or report on the
+    /// design are skipped, and the outcome names both (`TimeLimited`); the
+    /// design is verified whatever the limit.
+    pub time_limit_s: Option<f64>,
 }
 
 impl Default for UserSettings {
@@ -49,6 +55,7 @@ impl Default for UserSettings {
             smoothing: Smoothing::Auto,
             threads: 1,
             tolerances: Tolerances::default(),
+            time_limit_s: None,
         }
     }
 }

@@ -34,6 +34,9 @@ pub enum Shortfall {
     /// The robust refine traded shape error for a smaller spread
     /// (`robust`): the nominal design's shape error was `nominal_percent`.
     Robust { nominal_percent: f64 },
+    /// The run's time limit cut it short (`time_limited`): a longer limit
+    /// may do better.
+    TimeLimit { limit_s: f64 },
     /// None of the above: the search settled in a local optimum.
     Settled,
 }
@@ -58,6 +61,9 @@ impl Shortfall {
             Shortfall::NoPatches => "no layout marked a bend for a patch".into(),
             Shortfall::Robust { nominal_percent } => format!(
                 "the robust design trades shape error for a smaller spread (the nominal design's was {nominal_percent:.2} %; see robust)"
+            ),
+            Shortfall::TimeLimit { limit_s } => format!(
+                "the run's time limit ({limit_s} s) cut it short (a longer limit may do better; see time_limited)"
             ),
             Shortfall::Settled => {
                 "the search settled in a local optimum (another seed may do better)".into()
@@ -95,6 +101,8 @@ pub struct RunFacts<'a> {
     pub layouts: &'a [LayoutTrial],
     /// The nominal design's shape error, where a robust design replaced it.
     pub robust_from_percent: Option<f64>,
+    /// The time limit, where it cut the run short.
+    pub time_limit_s: Option<f64>,
 }
 
 /// The causes of a shape error above `HIGH_ERROR_PERCENT`, most telling
@@ -104,6 +112,9 @@ pub fn shortfalls(run: &RunFacts<'_>) -> Vec<Shortfall> {
         return vec![];
     }
     let mut causes = Vec::new();
+    if let Some(limit_s) = run.time_limit_s {
+        causes.push(Shortfall::TimeLimit { limit_s });
+    }
     if let Some(nominal) = run.robust_from_percent
         && nominal < run.shape_error_percent
     {
@@ -154,6 +165,7 @@ mod tests {
             budget_spent,
             layouts: &[],
             robust_from_percent: None,
+            time_limit_s: None,
         }
     }
 
@@ -177,6 +189,17 @@ mod tests {
         assert_eq!(
             shortfalls(&facts(2.0, 4, spent)),
             vec![Shortfall::BudgetSpent]
+        );
+        let cut_short = RunFacts {
+            time_limit_s: Some(30.0),
+            ..facts(2.0, 4, spent)
+        };
+        assert_eq!(
+            shortfalls(&cut_short),
+            vec![
+                Shortfall::TimeLimit { limit_s: 30.0 },
+                Shortfall::BudgetSpent
+            ]
         );
     }
 

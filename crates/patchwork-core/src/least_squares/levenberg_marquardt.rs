@@ -14,7 +14,8 @@
 //! starts from a damping no higher than the first.
 //!
 //! Stops: when the budget cannot pay the next evaluation (or the next
-//! Jacobian and a step after it), or when a *fresh* Jacobian fails — its
+//! Jacobian and a step after it), when the problem is out of time (before
+//! its next evaluation), or when a *fresh* Jacobian fails — its
 //! accepted step gains less than `min_gain`, its damping passes
 //! `max_damping`, or its step does not move. So every stop but the
 //! budget's is confirmed by a fresh Jacobian at the final point.
@@ -155,7 +156,7 @@ impl<P: Residuals> Minimiser<'_, P> {
     /// step after them. False if the budget cannot.
     fn take_jacobian(&mut self) -> Result<bool, Cancelled> {
         let (n, evaluations) = (self.current.u.len(), self.counts.evaluations);
-        if evaluations + 1 >= self.budget {
+        if evaluations + 1 >= self.budget || self.problem.out_of_time() {
             return Ok(false);
         }
         let step = self.settings.step;
@@ -195,7 +196,7 @@ impl<P: Residuals> Minimiser<'_, P> {
             };
             let fresh = j.fresh;
             let step = damped_step(&j.matrix, &self.current, self.damping);
-            if self.counts.evaluations >= self.budget {
+            if self.counts.evaluations >= self.budget || self.problem.out_of_time() {
                 return Ok(After::Stop);
             }
             // No step left: from a fresh Jacobian, done; from a secant one,

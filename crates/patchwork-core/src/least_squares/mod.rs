@@ -42,6 +42,13 @@ pub trait Residuals: Sync {
     fn cancelled(&self) -> bool {
         false
     }
+
+    /// Whether the caller's time is up: the solver then stops before its
+    /// next evaluation and returns its best point so far (a cancelled run
+    /// returns nothing).
+    fn out_of_time(&self) -> bool {
+        false
+    }
 }
 
 /// An evaluated point: u, its state, residuals and their norm.
@@ -107,5 +114,9 @@ impl<P: Residuals> Residuals for SpaceMapped<'_, P> {
 
     fn cancelled(&self) -> bool {
         self.inner.cancelled()
+    }
+
+    fn out_of_time(&self) -> bool {
+        self.inner.out_of_time()
     }
 }

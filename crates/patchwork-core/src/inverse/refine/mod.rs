@@ -47,6 +47,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use nalgebra::{DMatrix, DVector};
 
 use super::caches::Caches;
+use super::deadline::Deadline;
 use super::errors::DesignRunError;
 use super::objective::TargetProfiles;
 use super::outcome::RefineSummary;
@@ -74,6 +75,9 @@ pub(super) struct RefineProblem<'a> {
     pub correction: Option<&'a DVector<f64>>,
     pub threads: usize,
     pub cancel: &'a AtomicBool,
+    /// When the run's time limit passes: the refine then stops before its
+    /// next solve, with its best design so far.
+    pub deadline: Deadline,
     pub caches: &'a Caches,
 }
 
@@ -351,6 +355,10 @@ impl Residuals for ShapeResiduals<'_> {
 
     fn cancelled(&self) -> bool {
         self.problem.cancel.load(Ordering::Relaxed)
+    }
+
+    fn out_of_time(&self) -> bool {
+        self.problem.deadline.passed()
     }
 }
 

@@ -180,6 +180,10 @@ impl Residuals for Robust<'_> {
     fn cancelled(&self) -> bool {
         self.shape.problem.cancel.load(Ordering::Relaxed)
     }
+
+    fn out_of_time(&self) -> bool {
+        self.shape.problem.deadline.passed()
+    }
 }
 
 impl RefineProblem<'_> {

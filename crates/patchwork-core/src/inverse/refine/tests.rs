@@ -50,6 +50,7 @@ impl OnePatch {
             correction: None,
             threads: 2,
             cancel: &self.cancel,
+            deadline: Deadline::default(),
             caches: &self.caches,
         }
     }

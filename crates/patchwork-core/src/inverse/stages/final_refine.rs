@@ -55,7 +55,7 @@ impl FinalRefine {
         let jacobian = run.jacobian.take();
         let problem = RefineProblem {
             model: &finest,
-            ..refine_problem(run, ctx.cancel, ctx.caches)
+            ..refine_problem(run, ctx.cancel, ctx.deadline, ctx.caches)
         };
         let spent = run.state.evaluations;
         let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);

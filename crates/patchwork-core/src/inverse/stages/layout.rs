@@ -106,7 +106,8 @@ impl Layout {
 
 impl Layout {
     /// Tries `candidate` and records it; adopts it when its shape error is
-    /// below `current` by its margin, and then returns that error.
+    /// below `current` by its margin, and then returns that error. Once the
+    /// run's time limit has passed, none, untried.
     fn consider(
         &self,
         run: &mut Run<'_>,
@@ -115,6 +116,9 @@ impl Layout {
         current: f64,
     ) -> Result<Option<f64>, DesignRunError> {
         ctx.check_cancelled()?;
+        if ctx.out_of_time() {
+            return Ok(None);
+        }
         let (planar, margin) = (candidate.planar, candidate.margin);
         let mut trial = LayoutTrial {
             layout: candidate.layout.clone(),

@@ -46,6 +46,7 @@ impl Polish {
             objective: &run.setup.tuning.objective,
             warm_starts: run.setup.tuning.warm_starts,
             cancel: ctx.cancel,
+            deadline: ctx.deadline,
             caches: ctx.caches,
         };
         let polished = polish(
@@ -120,7 +121,7 @@ fn polish(
             incumbent.best().0,
             optimizer.strategy.sigma,
         );
-        if ended.is_some() {
+        if ended.is_some() || scorer.deadline.passed() {
             break;
         }
     }

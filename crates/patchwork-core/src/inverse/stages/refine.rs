@@ -7,6 +7,7 @@ use std::sync::atomic::AtomicBool;
 
 use super::super::caches::Caches;
 use super::super::correction::refine_corrected;
+use super::super::deadline::Deadline;
 use super::super::errors::DesignRunError;
 use super::super::outcome::{RefineSummary, StageName};
 use super::super::refine::{RefineProblem, Refined};
@@ -74,7 +75,7 @@ impl Refine {
         }
         let problem = RefineProblem {
             freedom,
-            ..refine_problem(run, ctx.cancel, ctx.caches)
+            ..refine_problem(run, ctx.cancel, ctx.deadline, ctx.caches)
         };
         let before = run.state.evaluations + spent;
         let (profiles, objective) = (&run.setup.profiles, &run.setup.tuning.objective);
@@ -118,6 +119,7 @@ impl Refine {
 pub(super) fn refine_problem<'r>(
     run: &'r Run<'_>,
     cancel: &'r AtomicBool,
+    deadline: Deadline,
     caches: &'r Caches,
 ) -> RefineProblem<'r> {
     RefineProblem {
@@ -129,6 +131,7 @@ pub(super) fn refine_problem<'r>(
         correction: None,
         threads: run.setup.settings.threads,
         cancel,
+        deadline,
         caches,
     }
 }

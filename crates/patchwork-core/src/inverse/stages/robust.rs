@@ -107,7 +107,7 @@ impl RobustStage {
         (verified, on_model): (&Simulation, Simulation),
     ) -> Result<Result<Candidate, String>, DesignRunError> {
         let sources = weighed(before, &run.setup.settings.tolerances);
-        let problem = refine_problem(run, ctx.cancel, ctx.caches);
+        let problem = refine_problem(run, ctx.cancel, ctx.deadline, ctx.caches);
         let offset = match run.verified_on == run.setup.tuning.verify_mesh {
             true => None,
             false => (problem.residuals_of(verified))

@@ -44,6 +44,7 @@ impl Search {
             objective: &tuning.objective,
             warm_starts: tuning.warm_starts,
             cancel: ctx.cancel,
+            deadline: ctx.deadline,
             caches: ctx.caches,
         };
         let objective = |u: &[f64]| scorer.evaluate(u, &incumbent);
@@ -83,6 +84,9 @@ impl Search {
             }
             if self.patience > 0 && state.evaluations >= state.improved_at + self.patience {
                 break SearchEnd::STALLED;
+            }
+            if ctx.out_of_time() {
+                break SearchEnd::TIME_LIMIT;
             }
         };
         run.termination = ended;

@@ -10,12 +10,14 @@ type JacobianFn = fn(&[f64]) -> DMatrix<f64>;
 
 /// A problem given by its residual function of the point; the state is the
 /// point itself. Counts its evaluations; `exact` supplies the analytic
-/// Jacobian as the cheap one; `cancel_after` cancels after that many.
+/// Jacobian as the cheap one; `cancel_after` cancels after that many, and
+/// its time is up after `time_after`.
 struct Analytic<F> {
     r: F,
     jacobian: Option<JacobianFn>,
     solves: AtomicUsize,
     cancel_after: usize,
+    time_after: usize,
 }
 
 impl<F: Fn(&[f64]) -> Vec<f64> + Sync> Analytic<F> {
@@ -25,6 +27,7 @@ impl<F: Fn(&[f64]) -> Vec<f64> + Sync> Analytic<F> {
             jacobian: None,
             solves: AtomicUsize::new(0),
             cancel_after: usize::MAX,
+            time_after: usize::MAX,
         }
     }
 
@@ -51,6 +54,10 @@ impl<F: Fn(&[f64]) -> Vec<f64> + Sync> Residuals for Analytic<F> {
 
     fn cancelled(&self) -> bool {
         self.solves.load(Ordering::Relaxed) >= self.cancel_after
+    }
+
+    fn out_of_time(&self) -> bool {
+        self.solves.load(Ordering::Relaxed) >= self.time_after
     }
 }
 
@@ -193,6 +200,35 @@ fn a_cancelled_run_says_so() {
         &mut |_, _, _| {},
     );
     assert!(matches!(result, Err(Cancelled)));
+}
+
+#[test]
+fn out_of_time_it_stops_before_the_next_solve_with_its_best_so_far() {
+    let unlimited = run(&Analytic::new(exponential), &[0.5, 0.5], 200);
+    let mut problem = Analytic::new(exponential);
+    problem.time_after = 6;
+    let solution = run(&problem, &[0.5, 0.5], 200);
+    // Six solves: the Jacobian's two differences and four trials, no more.
+    assert_eq!(problem.solves.load(Ordering::Relaxed), 6);
+    assert_eq!(solution.counts.evaluations, 6);
+    let start = problem.start(&[0.5, 0.5]).error;
+    assert!(
+        solution.best.error < start,
+        "{} {start}",
+        solution.best.error
+    );
+    assert!(
+        solution.best.error > unlimited.best.error,
+        "{} {}",
+        solution.best.error,
+        unlimited.best.error
+    );
+    // Out of time from the start: the start itself, no solve.
+    problem.solves.store(0, Ordering::Relaxed);
+    problem.time_after = 0;
+    let solution = run(&problem, &[0.5, 0.5], 200);
+    assert_eq!(problem.solves.load(Ordering::Relaxed), 0);
+    assert_eq!(solution.best.u, vec![0.5, 0.5]);
 }
 
 #[test]
