@@ -205,16 +205,15 @@ impl Plan {
     }
 
     /// The stages after the seed with their budgets, `; `-separated:
-    /// `reach; search: 600 evaluations; …`.
+    /// `reach; search: 600 evaluations; …`, and the whole run's time limit
+    /// where it has one: `…; the whole run: at most 60 s`.
     pub fn describe_budgets(&self) -> String {
-        self.stages
-            .iter()
-            .map(|stage| match stage.budget() {
-                Some(budget) => format!("{}: {budget}", stage.name().as_str()),
-                None => stage.name().as_str().to_string(),
-            })
-            .collect::<Vec<_>>()
-            .join("; ")
+        let stages = self.stages.iter().map(|stage| match stage.budget() {
+            Some(budget) => format!("{}: {budget}", stage.name().as_str()),
+            None => stage.name().as_str().to_string(),
+        });
+        let limit = (self.settings.time_limit_s).map(|s| format!("the whole run: at most {s} s"));
+        stages.chain(limit).collect::<Vec<_>>().join("; ")
     }
 }
 
@@ -420,6 +419,18 @@ mod tests {
             tuning.refine_budget
         );
         assert_eq!(draft.describe_budgets(), expected);
+        let limited = Plan::resolve(
+            UserSettings {
+                time_limit_s: Some(60.0),
+                ..draft.settings().clone()
+            },
+            &TuningOverrides::default(),
+        )
+        .unwrap();
+        assert_eq!(
+            limited.describe_budgets(),
+            format!("{expected}; the whole run: at most 60 s")
+        );
         assert_eq!(
             draft.describe(),
             "seed → reach → search → verify → length → refine → layout → spread"

@@ -1,5 +1,6 @@
 //! The linear spread: each source at its tolerance, its centreline by a
-//! Newton solve warm-started from the nominal state (a secant: at these
+//! Newton solve warm-started from the nominal state, to a relative residual
+//! of `SOURCE_TOLERANCE` (a secant: at these
 //! tolerances the linearised response of `fe::sensitivity` overstates a
 //! patch's placement around the tube two- to threefold, the tube's soft
 //! twist answering a first-order force that its geometric stiffening
@@ -126,15 +127,13 @@ pub fn spread_of(
         .iter()
         .map(|s| s.moved(nominal.design, s.tolerance(tolerances).0))
         .collect();
+    let options = nominal.source_options();
     let changes = map_in_threads(&moved, threads, &|design| {
-        simulate_with(
-            design,
-            nominal.options,
-            Some(nominal.simulation),
-            nominal.patterns,
-        )
-        .map_err(|e| e.to_string())
-        .and_then(|moved| change_of(&moved.centreline, &nominal.simulation.centreline, &samples))
+        simulate_with(design, &options, Some(nominal.simulation), nominal.patterns)
+            .map_err(|e| e.to_string())
+            .and_then(|moved| {
+                change_of(&moved.centreline, &nominal.simulation.centreline, &samples)
+            })
     });
     let mut contributors = Vec::with_capacity(sources.len());
     let mut band_sq = vec![0.0; SAMPLES];

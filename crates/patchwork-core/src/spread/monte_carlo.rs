@@ -1,6 +1,6 @@
 //! The Monte-Carlo check of the linear spread: `samples` designs, each with
 //! every source drawn at once from N(0, tolerance²) (seeded), solved in full
-//! from the nominal state in parallel; their centrelines' RMS change from
+//! from the nominal state in parallel (to the spread's `SOURCE_TOLERANCE`); their centrelines' RMS change from
 //! the nominal (aligned, as the linear spread measures it) against the
 //! linear estimate.
 //!
@@ -49,18 +49,14 @@ pub fn monte_carlo(
         })
         .collect();
     let reference = nominal.simulation.centreline.resample(SAMPLES).ok();
+    let options = nominal.source_options();
     let changes = map_in_threads(&designs, threads, &|design| {
         if cancel.load(Ordering::Relaxed) {
             return None;
         }
         let reference = reference.as_ref()?;
-        let moved = simulate_with(
-            design,
-            nominal.options,
-            Some(nominal.simulation),
-            nominal.patterns,
-        )
-        .ok()?;
+        let moved =
+            simulate_with(design, &options, Some(nominal.simulation), nominal.patterns).ok()?;
         change_of(&moved.centreline, &nominal.simulation.centreline, reference).ok()
     });
     let solved: Vec<_> = changes.into_iter().flatten().collect();
