@@ -289,10 +289,10 @@ fn refine_takes_a_round_trip_to_its_solution() {
         "{}",
         outcome.metrics.shape_error_percent
     );
-    // Measured: 0.0044 % in 27 refine solves (linearised Jacobians); Y
-    // 59.90, H 20.07, W 2.52, Θ 15.01° — even the width, which CMA-ES alone
-    // leaves at 2.08, is found. (With forward-difference Jacobians, a solve
-    // per variable: 0.0067 % in 33 solves, 17 steps from 2 Jacobians.)
+    // Measured: 0.0077 % in 15 refine solves (linearised Jacobians; the
+    // refine ends where a step lowers the error by less than 0.002 %); Y
+    // 59.99, H 19.98, W 2.52, Θ 15.09° — even the width, which CMA-ES alone
+    // leaves at 2.08, is found.
     assert!(
         (found.y_mm - truth.y_mm).abs() < 0.5
             && (found.h_mm - truth.h_mm).abs() < 0.5
@@ -307,9 +307,8 @@ fn refine_takes_a_round_trip_to_its_solution() {
 /// 1 mm model's shape, and the design carries that model's error onto the
 /// 0.5 mm model; corrected by the 0.5 mm model's residuals (three 0.5 mm
 /// solves), it fits the 0.5 mm model's shape. Measured: 0.22 % uncorrected,
-/// 0.0085 % corrected (21 steps from 4 linearised Jacobians in 37 solves;
-/// with forward-difference Jacobians 0.021 % in 59), the width found to
-/// 2.505 for 2.5.
+/// 0.0011 % corrected (16 steps from 4 linearised Jacobians in 32 solves),
+/// the width found to 2.503 for 2.5.
 /// (Corrected by a
 /// 1 mm model, a 2 mm refine overshoots: the two models' responses to the
 /// patch differ too much for a first-order correction, and the rounds stop

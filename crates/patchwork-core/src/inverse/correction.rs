@@ -43,7 +43,7 @@ use nalgebra::DVector;
 
 use super::errors::DesignRunError;
 use super::outcome::RefineSummary;
-use super::refine::{RefineProblem, Refined};
+use super::refine::{RESOLUTION_PERCENT, RefineProblem, Refined};
 use crate::curve::Curve;
 use crate::design::Design;
 use crate::fe::{SimulateOptions, Simulation};
@@ -117,7 +117,8 @@ pub(super) fn refine_corrected(
         };
         add_round(&mut totals, &summary);
         (design, coarse) = (refined.design, refined.simulation);
-        if summary.iterations == 0 {
+        let lowered = summary.shape_error_before_percent - summary.shape_error_after_percent;
+        if summary.iterations == 0 || lowered < RESOLUTION_PERCENT {
             break;
         }
         totals.correction_solves += 1;

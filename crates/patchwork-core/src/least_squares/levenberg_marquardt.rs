@@ -10,13 +10,14 @@
 //! not, J gets Broyden's rank-one secant update ([`super::jacobian`]) and the
 //! next step uses it; a fresh Jacobian is taken only when the secant one
 //! fails: `stale_rejections` rejected steps in a row, no step left, or an
-//! accepted step that gains less than `min_gain` of |r|. A fresh Jacobian
+//! accepted step that gains less than `min_gain` of |r| or lowers it by
+//! less than `resolution`. A fresh Jacobian
 //! starts from a damping no higher than the first.
 //!
 //! Stops: when the budget cannot pay the next evaluation (or the next
 //! Jacobian and a step after it), when the problem is out of time (before
 //! its next evaluation), or when a *fresh* Jacobian fails — its
-//! accepted step gains less than `min_gain`, its damping passes
+//! accepted step gains less than `min_gain` (or `resolution`), its damping passes
 //! `max_damping`, or its step does not move. So every stop but the
 //! budget's is confirmed by a fresh Jacobian at the final point.
 
@@ -37,6 +38,10 @@ pub struct Settings {
     /// An accepted step that lowers |r| by less than this fraction ends the
     /// run (from a fresh Jacobian) or refreshes the Jacobian (from a secant one).
     pub min_gain: f64,
+    /// An accepted step that lowers |r| by less than this (in |r|'s own
+    /// units) counts as one below `min_gain`: where |r| is a measured
+    /// quantity, the size of change too small to matter (0: none).
+    pub resolution: f64,
     /// Rejected steps in a row after which a secant Jacobian is refreshed.
     pub stale_rejections: usize,
     /// Threads for forward differences.
@@ -50,6 +55,7 @@ impl Default for Settings {
             first_damping: 1e-2,
             max_damping: 1e6,
             min_gain: 1e-3,
+            resolution: 0.0,
             stale_rejections: 3,
             threads: 1,
         }
@@ -230,6 +236,7 @@ impl<P: Residuals> Minimiser<'_, P> {
     /// Jacobian may be the Jacobian's fault: it is checked with a fresh one.
     fn accept(&mut self, trial: Iterate<P::State>, fresh: bool) -> After {
         let gain = 1.0 - trial.error / self.current.error;
+        let lowered = self.current.error - trial.error;
         if let Some(j) = self.jacobian.as_mut() {
             j.fresh = false;
         }
@@ -237,7 +244,7 @@ impl<P: Residuals> Minimiser<'_, P> {
         self.damping = (self.damping * 0.3).max(1e-9);
         self.counts.iterations += 1;
         self.report();
-        if gain < self.settings.min_gain {
+        if gain < self.settings.min_gain || lowered < self.settings.resolution {
             return self.refresh_unless(fresh);
         }
         After::Continue

@@ -106,6 +106,28 @@ fn fits_an_exponential_to_its_exact_parameters_by_forward_differences() {
     assert!(counts.evaluations <= 200);
 }
 
+/// Steps that lower |r| by less than the resolution count as stalled: the
+/// fit ends sooner, its error within a few resolutions of the exact fit's
+/// (the last accepted steps each lowered it by less); an enormous
+/// resolution ends it at the fresh Jacobian's first accepted step.
+#[test]
+fn steps_below_the_resolution_end_the_fit_sooner() {
+    let fit = |resolution: f64| {
+        let problem = Analytic::new(exponential);
+        let settings = Settings {
+            resolution,
+            ..Settings::default()
+        };
+        let start = problem.start(&[0.5, 0.5]);
+        minimise(&problem, start, 200, None, &settings, &mut |_, _, _| {}).unwrap()
+    };
+    let (exact, resolved, coarse) = (fit(0.0), fit(1e-3), fit(1e9));
+    assert!(resolved.counts.evaluations < exact.counts.evaluations);
+    assert!(resolved.best.error < 5e-3, "{}", resolved.best.error);
+    assert_eq!(coarse.counts.iterations, 1);
+    assert!(coarse.best.error < coarse.start_error);
+}
+
 #[test]
 fn solves_rosenbrock_from_across_the_valley() {
     // r = (10 (y − x²), 1 − x), x, y ∈ [−2, 2]: the minimum |r| = 0 at
