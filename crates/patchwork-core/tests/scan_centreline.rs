@@ -93,6 +93,8 @@ fn a_scan_of_a_simulated_balloon_gives_its_centreline_within_0_3_mm() {
     let last = Point::from(whole.centreline_mm[whole.centreline_mm.len() - 1]);
     let scan = whole.base_to_tip(last.norm() > first.norm(), sim.cap_height());
     let extracted = scan.curve().unwrap();
+    let base = Point::from(scan.centreline_mm[0]);
+    println!("base {base:?}, rim radius {:.3} mm", scan.radius_mm[0]);
     let truth = sim.centreline.points();
     let off: Vec<f64> = extracted
         .points()
@@ -110,9 +112,12 @@ fn a_scan_of_a_simulated_balloon_gives_its_centreline_within_0_3_mm() {
         sim.centreline.length()
     );
     assert!(rms < 0.3, "{rms} mm RMS");
-    // The base at the clamp's rim, the tip where the predicted cap's height
-    // puts it: 1.7 mm short in all.
-    assert!((extracted.length() - sim.centreline.length()).abs() < 4.0);
+    // The base at the clamp's ring, the scan's open edge, though holes hide
+    // part of it and the tube flares from 3.2 to 12 mm within a few
+    // millimetres behind it: measured 0.37 mm from the clamp's centre. The
+    // tip where the predicted cap's height puts it: 0.7 mm short in all.
+    assert!(base.norm() < 0.6, "{base:?}");
+    assert!((extracted.length() - sim.centreline.length()).abs() < 1.5);
     // Through the comparison: the cap found at the right end, the shape and
     // the radius (at the same fractions of length) against the simulation.
     let radii: Vec<f64> = sim.rings.iter().map(|r| r.radius).collect();
@@ -124,8 +129,8 @@ fn a_scan_of_a_simulated_balloon_gives_its_centreline_within_0_3_mm() {
         "{:?} {:?}",
         comparison.against_prediction, comparison.radius
     );
-    // A balloon built exactly as predicted: 0.10 % of the length.
-    assert!(comparison.against_prediction.shape_error_percent < 0.2);
+    // A balloon built exactly as predicted: 0.07 % of the length.
+    assert!(comparison.against_prediction.shape_error_percent < 0.15);
     let radius = comparison.radius.unwrap();
     // The scan's points lie on the triangles, the rings' fits go through
     // their corners: 2.3 % smaller.

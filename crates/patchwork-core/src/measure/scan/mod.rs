@@ -13,9 +13,11 @@
 //!    to the centreline, near it in space and along the surface, fitted
 //!    with a circle; the centres are the new centreline, until it stops
 //!    moving.
-//! 5. The ends (`ends.rs`): how far the scan reaches past each; the cap
-//!    is cut off once the comparison knows which end is the tip
-//!    ([`ScanCentreline::base_to_tip`]).
+//! 5. The ends (`ends.rs`): how far the scan reaches past each, and the
+//!    ring there (`sections::edge_through`: at the open base, the scan's
+//!    edge, where the balloon is clamped); the cap is cut off once the
+//!    comparison knows which end is the tip
+//!    ([`ScanCentreline::base_to_tip`]), which begins at the base's ring.
 
 mod ends;
 mod geodesic;
@@ -28,7 +30,7 @@ use serde::{Deserialize, Serialize};
 
 use self::geodesic::{SurfaceGraph, farthest};
 use self::grid::{Grid, voxel_centroids};
-use self::sections::{Section, Slab, fit_section};
+use self::sections::{Past, Section, Slab, fit_section};
 use self::skeleton::skeleton;
 use crate::curve::{Curve, Point};
 
@@ -196,19 +198,7 @@ pub fn centreline_from_scan(points: &[Point]) -> Result<ScanCentreline, ScanErro
         ends::reach_beyond(&slab, &a.centre, &(a.centre - b.centre), a.radius)
     };
     let reach_beyond_mm = [end(0, 1.min(n - 1)), end(n - 1, n.saturating_sub(2))];
-    let rim = |i: usize, inner: usize, beyond: f64| {
-        let (a, b) = (&sections[i], &sections[inner]);
-        let t = (a.centre - b.centre).normalize();
-        let along = (beyond - 2.0 * slab.half_width).max(0.0)..=beyond;
-        sections::ring_through(&slab, &a.centre, &t, along, 2.0 * a.radius).map(|(c, r)| Rim {
-            centre_mm: [c.x, c.y, c.z],
-            radius_mm: r,
-        })
-    };
-    let rims = [
-        rim(0, 1.min(n - 1), reach_beyond_mm[0]),
-        rim(n - 1, n.saturating_sub(2), reach_beyond_mm[1]),
-    ];
+    let rims = rims(&slab, &sections, reach_beyond_mm);
     Ok(ScanCentreline {
         centreline_mm: sections
             .iter()
@@ -226,6 +216,32 @@ pub fn centreline_from_scan(points: &[Point]) -> Result<ScanCentreline, ScanErro
         section_residual_mm: residuals[residuals.len() / 2],
         voxel_mm: voxel,
     })
+}
+
+/// The rings past the first and the last section, `beyond` them: the
+/// scan's edge where it has one (the clamp's ring of an open end), else
+/// the circle through the points of the slab there, in its mid-plane.
+fn rims(slab: &Slab, sections: &[Section], beyond: [f64; 2]) -> [Option<Rim>; 2] {
+    let n = sections.len();
+    let rim = |i: usize, inner: usize, beyond: f64| {
+        let (a, b) = (&sections[i], &sections[inner]);
+        let past = Past {
+            centre: &a.centre,
+            tangent: &(a.centre - b.centre).normalize(),
+            along: (beyond - 2.0 * slab.half_width).max(0.0)..=beyond,
+            reach: 2.0 * a.radius,
+        };
+        let ring =
+            sections::edge_through(slab, &past).or_else(|| sections::ring_through(slab, &past));
+        ring.map(|(c, r)| Rim {
+            centre_mm: [c.x, c.y, c.z],
+            radius_mm: r,
+        })
+    };
+    [
+        rim(0, 1.min(n - 1), beyond[0]),
+        rim(n - 1, n.saturating_sub(2), beyond[1]),
+    ]
 }
 
 fn check(points: &[Point]) -> Result<(), ScanError> {

@@ -64,27 +64,113 @@ pub fn fit_section(slab: &Slab, centre: &Point, tangent: &Point, level: f64) -> 
     })
 }
 
-/// The circle through the points within `reach` of `centre` whose offset
-/// along `tangent` lies in `along` (mm): its centre (in space) and radius.
-pub fn ring_through(
-    slab: &Slab,
-    centre: &Point,
-    tangent: &Point,
-    along: std::ops::RangeInclusive<f64>,
-    reach: f64,
-) -> Option<(Point, f64)> {
-    let mut found = Vec::new();
-    slab.grid.within(slab.points, centre, reach, &mut found);
-    let (e1, e2) = plane_basis(tangent);
-    let planar: Vec<(f64, f64)> = found
-        .iter()
-        .map(|&i| slab.points[i as usize] - centre)
-        .filter(|d| along.contains(&d.dot(tangent)))
-        .map(|d| (d.dot(&e1), d.dot(&e2)))
-        .collect();
+/// Where a ring past an end section looks: its points within `reach` of
+/// `centre` whose offset along `tangent` lies in `along` (mm).
+pub struct Past<'a> {
+    pub centre: &'a Point,
+    pub tangent: &'a Point,
+    pub along: std::ops::RangeInclusive<f64>,
+    pub reach: f64,
+}
+
+impl Past<'_> {
+    /// The points, each as (u, v) in the plane normal to the tangent (its
+    /// basis `plane_basis`) and h along it, from the centre.
+    fn points(&self, slab: &Slab) -> Vec<(f64, f64, f64)> {
+        let mut found = Vec::new();
+        slab.grid
+            .within(slab.points, self.centre, self.reach, &mut found);
+        let (e1, e2) = plane_basis(self.tangent);
+        found
+            .iter()
+            .map(|&i| slab.points[i as usize] - self.centre)
+            .map(|d| (d.dot(&e1), d.dot(&e2), d.dot(self.tangent)))
+            .filter(|(_, _, h)| self.along.contains(h))
+            .collect()
+    }
+
+    /// The point at (u, v, h) from the centre, in space.
+    fn at(&self, (u, v, h): (f64, f64, f64)) -> Point {
+        let (e1, e2) = plane_basis(self.tangent);
+        self.centre + e1 * u + e2 * v + self.tangent * h
+    }
+}
+
+/// The circle through the points `past` looks at: its centre (in space, in
+/// the mid-plane of `along`) and radius.
+pub fn ring_through(slab: &Slab, past: &Past) -> Option<(Point, f64)> {
+    let planar: Vec<(f64, f64)> = past.points(slab).iter().map(|&(u, v, _)| (u, v)).collect();
     let (a, b, radius, _) = fit_planar(&planar)?;
-    let offset = 0.5 * (along.start() + along.end());
-    Some((centre + e1 * a + e2 * b + tangent * offset, radius))
+    let offset = 0.5 * (past.along.start() + past.along.end());
+    Some((past.at((a, b, offset)), radius))
+}
+
+/// Sectors around the tube that [`edge_through`] takes the outermost point
+/// of, and how many of them must hold points.
+const EDGE_SECTORS: usize = 72;
+const EDGE_COVERED: usize = 36;
+
+/// The open edge of the scan past `centre` along `tangent`: among the
+/// points within `reach` whose offset along `tangent` lies in `along`, the
+/// one reaching farthest out in each of [`EDGE_SECTORS`] sectors around
+/// the circle they fit; less those well below the plane through them
+/// (where a hole hid the edge, the farthest point seen is on the tube
+/// behind it); the circle through the rest (fitted in the plane normal to
+/// `tangent`, going at least half round), at the height of their plane.
+/// Where the scan ends at a clamp, that is the clamp's ring, wherever the
+/// tube flares behind it and however the ring tilts from the end section;
+/// none where fewer than [`EDGE_COVERED`] sectors hold points.
+pub fn edge_through(slab: &Slab, past: &Past) -> Option<(Point, f64)> {
+    let points = past.points(slab);
+    let planar: Vec<(f64, f64)> = points.iter().map(|&(u, v, _)| (u, v)).collect();
+    let (a, b, _, _) = fit_planar(&planar)?;
+    let edge = outermost_per_sector(&points, (a, b));
+    if edge.len() < EDGE_COVERED {
+        return None;
+    }
+    let plane = plane_through(&edge)?;
+    let below: Vec<f64> = edge.iter().map(|p| plane_height(&plane, p) - p.2).collect();
+    let mut spread: Vec<f64> = below.iter().map(|d| d.abs()).collect();
+    spread.sort_by(f64::total_cmp);
+    // 3 robust standard deviations (1.4826 × the median absolute residual).
+    let cut = 3.0 * 1.4826 * spread[spread.len() / 2];
+    let kept: Vec<(f64, f64, f64)> = (edge.iter().zip(&below))
+        .filter(|(_, d)| **d <= cut)
+        .map(|(p, _)| *p)
+        .collect();
+    let ring: Vec<(f64, f64)> = kept.iter().map(|&(u, v, _)| (u, v)).collect();
+    let (ka, kb, radius, _) = fit_planar(&ring)?;
+    let height = plane_height(&plane_through(&kept)?, &(ka, kb, 0.0));
+    Some((past.at((ka, kb, height)), radius))
+}
+
+/// In each of [`EDGE_SECTORS`] sectors around (a, b), the point (u, v, h)
+/// with the largest h.
+fn outermost_per_sector(points: &[(f64, f64, f64)], (a, b): (f64, f64)) -> Vec<(f64, f64, f64)> {
+    let mut outermost: Vec<Option<(f64, f64, f64)>> = vec![None; EDGE_SECTORS];
+    for &(u, v, h) in points {
+        let turn = (v - b).atan2(u - a) / std::f64::consts::TAU + 0.5;
+        let sector = ((turn * EDGE_SECTORS as f64) as usize).min(EDGE_SECTORS - 1);
+        if outermost[sector].is_none_or(|(_, _, best)| h > best) {
+            outermost[sector] = Some((u, v, h));
+        }
+    }
+    outermost.into_iter().flatten().collect()
+}
+
+/// The plane h = h₀ + p u + q v through `points` (least squares).
+fn plane_through(points: &[(f64, f64, f64)]) -> Option<Vector3<f64>> {
+    let (mut ata, mut atb) = (Matrix3::zeros(), Vector3::zeros());
+    for &(u, v, h) in points {
+        let row = Vector3::new(1.0, u, v);
+        ata += row * row.transpose();
+        atb += row * h;
+    }
+    ata.lu().solve(&atb)
+}
+
+fn plane_height(plane: &Vector3<f64>, &(u, v, _): &(f64, f64, f64)) -> f64 {
+    plane[0] + plane[1] * u + plane[2] * v
 }
 
 /// The circle fitted to points in a plane: centre (a, b), radius and the
