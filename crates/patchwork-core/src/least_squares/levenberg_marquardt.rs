@@ -2,8 +2,11 @@
 //!
 //! Step: (JᵀJ + λ D) δ = −Jᵀr with D = diag(JᵀJ) (Marquardt's scaling,
 //! floored at 1e-9 of the mean diagonal so a variable the residuals do not
-//! see stays put), u + δ clamped into the cube; accepted only if |r| falls
-//! (then λ × 0.3), else λ × 4 and again.
+//! see stays put), over the variables not held at a bound, then clamped
+//! into the cube ([`step`]). A step the linear model predicts no fall of
+//! |r| for is not evaluated (λ × 4 and again); one evaluated is accepted
+//! only if |r| falls (then λ scaled by the step's gain ratio, Nielsen's
+//! rule: between × 1/3 and × 2), else λ × 4 and again.
 //!
 //! Jacobians: the problem's cheap one (counted as one evaluation) or forward
 //! differences (one evaluation per variable). After every trial, accepted or
@@ -21,10 +24,11 @@
 //! `max_damping`, or its step does not move. So every stop but the
 //! budget's is confirmed by a fresh Jacobian at the final point.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 use super::jacobian::{Jacobian, forward_differences};
 use super::{Iterate, Residuals};
+use step::damped_step;
 
 /// The solver's constants.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -207,18 +211,28 @@ impl<P: Residuals> Minimiser<'_, P> {
             }
             // No step left: from a fresh Jacobian, done; from a secant one,
             // take a fresh one.
-            let Some(u) = step else {
+            let Some(step) = step else {
                 return Ok(self.refresh_unless(fresh));
             };
+            // A step the linear model itself expects no gain from (one a
+            // bound cut short) is not worth a solve: more damping.
+            if step.predicted >= self.current.error {
+                self.damping *= 4.0;
+                if self.damping > self.settings.max_damping {
+                    return Ok(self.refresh_unless(fresh));
+                }
+                continue;
+            }
             self.counts.evaluations += 1;
-            let trial = self.current.evaluate(self.problem, u);
+            let predicted = step.predicted;
+            let trial = self.current.evaluate(self.problem, step.u);
             self.check_cancelled()?;
             if let (Some(trial), Some(j)) = (&trial, self.jacobian.as_mut()) {
                 j.update(&self.current, trial);
             }
             match trial {
                 Some(trial) if trial.error < self.current.error => {
-                    return Ok(self.accept(trial, fresh));
+                    return Ok(self.accept(trial, predicted, fresh));
                 }
                 _ => {
                     self.damping *= 4.0;
@@ -234,14 +248,15 @@ impl<P: Residuals> Minimiser<'_, P> {
 
     /// Moves to `trial`, which lowered |r|. A small gain from a secant
     /// Jacobian may be the Jacobian's fault: it is checked with a fresh one.
-    fn accept(&mut self, trial: Iterate<P::State>, fresh: bool) -> After {
+    fn accept(&mut self, trial: Iterate<P::State>, predicted: f64, fresh: bool) -> After {
         let gain = 1.0 - trial.error / self.current.error;
         let lowered = self.current.error - trial.error;
+        let ratio = gain_ratio(self.current.error, trial.error, predicted);
         if let Some(j) = self.jacobian.as_mut() {
             j.fresh = false;
         }
         self.current = trial;
-        self.damping = (self.damping * 0.3).max(1e-9);
+        self.damping = (self.damping * damping_factor(ratio)).max(1e-9);
         self.counts.iterations += 1;
         self.report();
         if gain < self.settings.min_gain || lowered < self.settings.resolution {
@@ -282,38 +297,29 @@ impl<P: Residuals> Minimiser<'_, P> {
     }
 }
 
-/// The damped Gauss–Newton step from `at` with Jacobian `jacobian`, floored
-/// Marquardt scaling; see [`damped_step_from_normal`].
-fn damped_step<S>(jacobian: &DMatrix<f64>, at: &Iterate<S>, damping: f64) -> Option<Vec<f64>> {
-    let normal = jacobian.transpose() * jacobian;
-    let gradient = jacobian.transpose() * &at.residuals;
-    let floor = 1e-9 * normal.trace().max(f64::MIN_POSITIVE) / at.u.len() as f64;
-    damped_step_from_normal(&normal, &gradient, damping, floor, &at.u)
+/// The gain ratio ρ of a step from |r| = `current` to `actual`: the fall of
+/// |r|² it achieved over the fall the linear model predicted (to
+/// `predicted`). ρ near 1: the model held over the step; near 0: it barely
+/// did.
+fn gain_ratio(current: f64, actual: f64, predicted: f64) -> f64 {
+    let expected = current * current - predicted * predicted;
+    match expected > 0.0 {
+        true => (current * current - actual * actual) / expected,
+        false => 1.0,
+    }
 }
 
-/// u + δ with (JᵀJ + λ D) δ = −Jᵀr, D = diag(JᵀJ) floored at `floor`,
-/// clamped into the unit cube; none if the system cannot be solved or the
-/// clamped step does not move.
-fn damped_step_from_normal(
-    normal: &DMatrix<f64>,
-    gradient: &DVector<f64>,
-    damping: f64,
-    floor: f64,
-    u: &[f64],
-) -> Option<Vec<f64>> {
-    let mut system = normal.clone();
-    for i in 0..u.len() {
-        system[(i, i)] += damping * normal[(i, i)].max(floor);
-    }
-    let step = system.cholesky()?.solve(&(-gradient));
-    let next: Vec<f64> = u
-        .iter()
-        .zip(step.iter())
-        .map(|(x, d)| (x + d).clamp(0.0, 1.0))
-        .collect();
-    let moved = next.iter().zip(u).any(|(a, b)| a != b);
-    (moved && next.iter().all(|x| x.is_finite())).then_some(next)
+/// The damping's factor after an accepted step of gain ratio ρ (Nielsen,
+/// 1999): max(1/3, 1 − (2ρ − 1)³), so a step the model predicted well
+/// lowers the damping threefold, one it predicted half-right keeps it, and
+/// one it barely predicted raises it up to twofold — rather than a fixed
+/// fall that sends the next step past where the model holds.
+fn damping_factor(ratio: f64) -> f64 {
+    let r = ratio.clamp(0.0, 1.0);
+    (1.0 - (2.0 * r - 1.0).powi(3)).max(1.0 / 3.0)
 }
+
+mod step;
 
 #[cfg(test)]
 mod tests;

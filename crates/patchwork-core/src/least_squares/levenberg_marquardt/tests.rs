@@ -3,7 +3,9 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::super::SpaceMapped;
+use super::step::damped_step_from_normal;
 use super::*;
+use nalgebra::DVector;
 
 /// An analytic Jacobian of the point.
 type JacobianFn = fn(&[f64]) -> DMatrix<f64>;
@@ -327,4 +329,55 @@ fn damped_step_stays_in_the_unit_cube_and_shrinks_with_damping() {
     assert!(damped_step_from_normal(&normal, &gradient, 0.0, 1e-12, &[1.0, 0.5]).is_some());
     let pinned = DVector::from_vec(vec![-5.0, 0.0]);
     assert!(damped_step_from_normal(&normal, &pinned, 0.0, 1e-12, &[1.0, 0.5]).is_none());
+}
+
+/// r(u) = J u − b with J = [[1, 1], [0, 1], [1, 0]], b = (2, 0.5, 2): from
+/// u = (1, 0.5) the unconstrained step (5/6, −1/6) pushes u₀ past its upper
+/// bound. Held there, the best u₁ is the least-squares fit of J's second
+/// column to b − J's first: (1 + 0.5) / 2 = 0.75, where |r|² = 1.125 (1.25
+/// at the start). Clamping the unconstrained step instead lands on
+/// (1, 1/3), where |r|² = 1.47: no descent at all.
+fn against_a_bound(u: &[f64]) -> Vec<f64> {
+    vec![u[0] + u[1] - 2.0, u[1] - 0.5, u[0] - 2.0]
+}
+
+#[test]
+fn a_variable_pushed_against_its_bound_is_held_there_and_the_rest_solved_without_it() {
+    let j = DMatrix::from_row_slice(3, 2, &[1.0, 1.0, 0.0, 1.0, 1.0, 0.0]);
+    let u = [1.0, 0.5];
+    let r = DVector::from_vec(against_a_bound(&u));
+    let next = damped_step_from_normal(&(j.transpose() * &j), &(j.transpose() * r), 0.0, 1e-12, &u)
+        .unwrap();
+    assert_eq!(next[0], 1.0);
+    assert!((next[1] - 0.75).abs() < 1e-12, "{next:?}");
+}
+
+/// The same problem solved from inside the cube: the answer on the bound is
+/// reached exactly, and no solve is spent on a step the linear model
+/// expects to raise |r| (the exact Jacobian's model is the problem itself,
+/// so every solve is accepted).
+#[test]
+fn an_answer_on_a_bound_is_reached_without_wasted_solves() {
+    let mut problem = Analytic::new(against_a_bound);
+    problem.jacobian = Some(|_| DMatrix::from_row_slice(3, 2, &[1.0, 1.0, 0.0, 1.0, 1.0, 0.0]));
+    let solution = run(&problem, &[0.9, 0.2], 50);
+    let u = &solution.best.u;
+    assert!(u[0] == 1.0 && (u[1] - 0.75).abs() < 1e-6, "{u:?}");
+    let counts = solution.counts;
+    let steps = counts.evaluations - counts.jacobians;
+    assert_eq!(steps, counts.iterations, "every step accepted: {counts:?}");
+}
+
+/// Nielsen's damping rule: a step the linear model predicted exactly lowers
+/// the damping threefold, a half-right one keeps it, one that barely paid
+/// doubles it; a model that predicted no fall counts as exact.
+#[test]
+fn the_damping_follows_how_well_the_model_predicted_the_step() {
+    // |r| 2 → 1 as predicted: ρ = 1.
+    assert!((damping_factor(gain_ratio(2.0, 1.0, 1.0)) - 1.0 / 3.0).abs() < 1e-12);
+    // |r|² fell by 1.5 of a predicted 3: ρ = 0.5.
+    let half = gain_ratio(2.0, 2.5_f64.sqrt(), 1.0);
+    assert!((half - 0.5).abs() < 1e-12 && (damping_factor(half) - 1.0).abs() < 1e-12);
+    assert!((damping_factor(gain_ratio(2.0, 2.0 - 1e-9, 1.0)) - 2.0).abs() < 1e-6);
+    assert_eq!(gain_ratio(1.0, 0.5, 1.0), 1.0);
 }
