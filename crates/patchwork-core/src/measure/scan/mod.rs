@@ -193,12 +193,14 @@ pub fn centreline_from_scan(points: &[Point]) -> Result<ScanCentreline, ScanErro
     let mut residuals: Vec<f64> = sections.iter().map(|s| s.residual).collect();
     residuals.sort_by(f64::total_cmp);
     let n = sections.len();
-    let end = |i: usize, inner: usize| {
+    // Each end section and its inner neighbour, which give the end's
+    // outward direction.
+    let end_pairs = [(0, 1.min(n - 1)), (n - 1, n.saturating_sub(2))];
+    let reach_beyond_mm = end_pairs.map(|(i, inner)| {
         let (a, b) = (&sections[i], &sections[inner]);
         ends::reach_beyond(&slab, &a.centre, &(a.centre - b.centre), a.radius)
-    };
-    let reach_beyond_mm = [end(0, 1.min(n - 1)), end(n - 1, n.saturating_sub(2))];
-    let rims = rims(&slab, &sections, reach_beyond_mm);
+    });
+    let rims = rims(&slab, &sections, end_pairs, reach_beyond_mm);
     Ok(ScanCentreline {
         centreline_mm: sections
             .iter()
@@ -218,12 +220,17 @@ pub fn centreline_from_scan(points: &[Point]) -> Result<ScanCentreline, ScanErro
     })
 }
 
-/// The rings past the first and the last section, `beyond` them: the
-/// scan's edge where it has one (the clamp's ring of an open end), else
-/// the circle through the points of the slab there, in its mid-plane.
-fn rims(slab: &Slab, sections: &[Section], beyond: [f64; 2]) -> [Option<Rim>; 2] {
-    let n = sections.len();
-    let rim = |i: usize, inner: usize, beyond: f64| {
+/// The rings past the end sections `(end, inner neighbour)`, `beyond`
+/// them: the scan's edge where it has one (the clamp's ring of an open
+/// end), else the circle through the points of the slab there, in its
+/// mid-plane.
+fn rims(
+    slab: &Slab,
+    sections: &[Section],
+    ends: [(usize, usize); 2],
+    beyond: [f64; 2],
+) -> [Option<Rim>; 2] {
+    let rim = |(i, inner): (usize, usize), beyond: f64| {
         let (a, b) = (&sections[i], &sections[inner]);
         let past = Past {
             centre: &a.centre,
@@ -238,10 +245,7 @@ fn rims(slab: &Slab, sections: &[Section], beyond: [f64; 2]) -> [Option<Rim>; 2]
             radius_mm: r,
         })
     };
-    [
-        rim(0, 1.min(n - 1), beyond[0]),
-        rim(n - 1, n.saturating_sub(2), beyond[1]),
-    ]
+    [rim(ends[0], beyond[0]), rim(ends[1], beyond[1])]
 }
 
 fn check(points: &[Point]) -> Result<(), ScanError> {
