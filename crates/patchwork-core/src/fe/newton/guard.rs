@@ -50,22 +50,26 @@ pub struct Guarded {
     pub factored_with: Result<f64, f64>,
 }
 
-/// The guard on the line search's point `next` from `u` (energy `energy`):
-/// shifts tried from `shift` up to `ceiling`. `None` if `next` is outside
-/// the potential's domain.
+/// The guard on the line search's point `next` from `u` (energy `energy`),
+/// with `next`'s linearisation where the caller has it: shifts tried from
+/// `shift` up to `ceiling`. `None` if `next` is outside the potential's
+/// domain.
 pub fn guard_definiteness(
     potential: &impl Potential,
     factor: &mut TangentFactor,
     (u, energy): (&[f64], f64),
-    next: Vec<f64>,
+    (next, linearised): (Vec<f64>, Option<Linearisation>),
     (shift, ceiling): (f64, f64),
     stats: &mut SolveStats,
 ) -> Option<Guarded> {
     // K at `point`, factorised with a shift up to the ceiling; `None` if the
     // point is outside the domain or its energy is above `cap` (judged before
     // the factorisation, which a refused point does not need).
-    let mut test = |point: &[f64], cap: Option<f64>| {
-        let linearised = timed(&mut stats.assembly_time, || potential.linearise(point));
+    let mut test = |point: &[f64], known: Option<Linearisation>, cap: Option<f64>| {
+        let linearised = match known {
+            Some(known) => Some(known),
+            None => timed(&mut stats.assembly_time, || potential.linearise(point)),
+        };
         let mut here = linearised.filter(|l| cap.is_none_or(|cap| l.potential <= cap))?;
         let (used, attempts) = timed(&mut stats.factor_time, || {
             factor_with_shift(factor, &mut here.values, shift, here.stiffness, ceiling)
@@ -75,7 +79,7 @@ pub fn guard_definiteness(
     };
     // The line search accepted its own point by `Potential::energy` (summed
     // in another order), so its energy is not judged again.
-    let (here, used) = test(&next, None)?;
+    let (here, used) = test(&next, linearised, None)?;
     if used.is_ok() || !ceiling.is_finite() {
         // Passed, or the guard is off: the point is taken as it is.
         return Some(Guarded {
@@ -93,7 +97,7 @@ pub fn guard_definiteness(
             .map(|(a, b)| a + fraction * (b - a))
             .collect();
         // A halved point must not raise the energy.
-        if let Some((halved, Ok(shifted))) = test(&candidate, Some(energy + allowance)) {
+        if let Some((halved, Ok(shifted))) = test(&candidate, None, Some(energy + allowance)) {
             return Some(Guarded {
                 u: candidate,
                 here: halved,

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use super::super::tangent_factor::TangentFactor;
 use super::guard::{ceiling, guard_definiteness};
-use super::line_search::line_search;
+use super::line_search::{line_search, sufficient_decrease};
 use super::options::NewtonOptions;
 use super::outcome::{SolveError, SolveStats};
 use super::potential::{Linearisation, Potential, norm};
@@ -92,17 +92,24 @@ impl<P: Potential> Newton<'_, '_, P> {
             if slope.is_nan() || slope >= 0.0 {
                 return Err(line_search_failed);
             }
-            let searched = timed(&mut self.stats.line_search_time, || {
-                line_search(self.potential, &u, &step, here.potential, slope)
-            });
-            let Some(next) = searched else {
-                // Converged to round-off: the energy can no longer resolve
-                // the step, and the residual is within 1000× of the tolerance.
-                if residual <= 1e3 * options.tolerance {
-                    let stable = self.stable(&mut here);
-                    return Ok((u, self.converged(iteration, residual, stable)));
+            let next = match self.full_step(&u, &step, (here.potential, slope)) {
+                Some((end, linearised)) => (end, Some(linearised)),
+                None => {
+                    let searched = timed(&mut self.stats.line_search_time, || {
+                        line_search(self.potential, &u, &step, (here.potential, slope), 0.5)
+                    });
+                    let Some(next) = searched else {
+                        // Converged to round-off: the energy can no longer
+                        // resolve the step, and the residual is within 1000×
+                        // of the tolerance.
+                        if residual <= 1e3 * options.tolerance {
+                            let stable = self.stable(&mut here);
+                            return Ok((u, self.converged(iteration, residual, stable)));
+                        }
+                        return Err(line_search_failed);
+                    };
+                    (next, None)
                 }
-                return Err(line_search_failed);
             };
             (u, here) = self.guard(&u, &here, next, used_shift, residual)?;
         }
@@ -147,6 +154,27 @@ impl<P: Potential> Newton<'_, '_, P> {
         Ok((step, slope, used_shift))
     }
 
+    /// The full step's end and its linearisation, if its energy passes
+    /// Armijo's test from `energy` along `slope`: the line search's first
+    /// trial and the next iteration's assembly in one. Most steps are taken
+    /// whole, and Π alone costs most of an assembly (the material's
+    /// thickness solve at every quadrature point dominates both), so
+    /// assembling at once instead of trying Π first saves nearly one
+    /// evaluation per iteration; a step that fails costs the tangent's
+    /// share of one assembly more than before.
+    fn full_step(
+        &mut self,
+        u: &[f64],
+        step: &[f64],
+        (energy, slope): (f64, f64),
+    ) -> Option<(Vec<f64>, Linearisation)> {
+        let end: Vec<f64> = u.iter().zip(step).map(|(a, s)| a + s).collect();
+        let linearised = timed(&mut self.stats.assembly_time, || {
+            self.potential.linearise(&end)
+        })?;
+        sufficient_decrease(energy, slope, 1.0, linearised.potential).then_some((end, linearised))
+    }
+
     /// The guard on the line search's point; the state to go on from. If
     /// every shift up to the guard's ceiling failed there, at every halving,
     /// the next factorisation starts above the ceiling and the guard stands
@@ -156,7 +184,7 @@ impl<P: Potential> Newton<'_, '_, P> {
         &mut self,
         u: &[f64],
         here: &Linearisation,
-        next: Vec<f64>,
+        next: (Vec<f64>, Option<Linearisation>),
         used_shift: f64,
         residual: f64,
     ) -> Result<(Vec<f64>, Linearisation), SolveError> {

@@ -3,7 +3,10 @@
 //! Each iteration (`minimise.rs`): assemble Π, ∇Π and the Hessian K
 //! ([`Potential`]); factor K by sparse Cholesky (faer, AMD ordering, symbolic
 //! analysis once per mesh topology, kept in a [`PatternCache`]); step
-//! Δ = −K⁻¹∇Π; backtrack until Π decreases enough (Armijo, `line_search.rs`).
+//! Δ = −K⁻¹∇Π. The full step's end is assembled at once (Π, ∇Π and K: the
+//! next iteration's linearisation) and kept if its Π decreases enough
+//! (Armijo); otherwise backtrack from half the step on Π alone
+//! (`line_search.rs`).
 //! Where K is not positive definite — compressed, wrinkling regions, or far
 //! from equilibrium — Cholesky fails, which doubles as an inertia test: the
 //! step is taken with K + αI (`shift.rs`: α grown until the factorisation

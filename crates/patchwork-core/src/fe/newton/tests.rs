@@ -145,7 +145,7 @@ fn the_guard_halves_a_step_that_lands_where_the_tangent_is_indefinite() {
             &cosine,
             &mut factor,
             start,
-            next.clone(),
+            (next.clone(), None),
             (0.0, limit),
             &mut stats,
         )
