@@ -11,6 +11,7 @@ mod input;
 mod ksa_cmd;
 mod output;
 mod preset_cmd;
+mod reach_cache;
 mod redesign_cmd;
 mod simulate_cmd;
 mod spread_cmd;
@@ -98,6 +99,12 @@ pub fn run() -> Result<()> {
         Ok(cli) => cli,
         Err(error) => return handle_clap_error(error),
     };
+    if matches!(
+        cli.command,
+        Command::Design(_) | Command::Redesign(_) | Command::Serve(_)
+    ) {
+        reach_cache::install();
+    }
     match cli.command {
         Command::Curve(args) => curve_cmd::run(args),
         Command::Ksa(args) => ksa_cmd::run(args),

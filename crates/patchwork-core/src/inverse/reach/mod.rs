@@ -1,8 +1,10 @@
 //! What the balloon can make within the bounds (`table.rs`, from the FE
-//! model), and where a target asks for more (`verdict.rs`).
+//! model, kept between runs by `memo.rs`), and where a target asks for
+//! more (`verdict.rs`).
 
 mod helix;
 mod measure;
+pub mod memo;
 mod table;
 mod verdict;
 

@@ -92,15 +92,7 @@ impl ReachTable {
         cancel: &AtomicBool,
     ) -> Result<ReachTable, SimulateError> {
         let h = bounds.h_max_mm;
-        let grid: Vec<(f64, f64)> = WIDTH_FRACTIONS
-            .into_iter()
-            .flat_map(|fraction| {
-                let width = bounds.w_min_mm + fraction * (bounds.w_max_mm - bounds.w_min_mm);
-                (ANGLES_DEG.into_iter())
-                    .filter(|t| *t <= bounds.theta_limit_deg)
-                    .map(move |theta| (width, theta))
-            })
-            .collect();
+        let grid = ReachTable::grid(bounds);
         let solved = map_in_threads(&grid, threads, &|&(width, theta)| {
             if cancel.load(Ordering::Relaxed) {
                 return None;
@@ -134,6 +126,30 @@ impl ReachTable {
                 entries,
             }),
         }
+    }
+
+    /// The (width, angle) of each entry a table within `bounds` holds when
+    /// every balloon of the grid solved.
+    pub fn grid(bounds: &VariableBounds) -> Vec<(f64, f64)> {
+        WIDTH_FRACTIONS
+            .into_iter()
+            .flat_map(|fraction| {
+                let width = bounds.w_min_mm + fraction * (bounds.w_max_mm - bounds.w_min_mm);
+                (ANGLES_DEG.into_iter())
+                    .filter(|t| *t <= bounds.theta_limit_deg)
+                    .map(move |theta| (width, theta))
+            })
+            .collect()
+    }
+
+    /// Whether this table holds an entry for every point of `bounds`' grid,
+    /// for patches of the longest length the bounds allow.
+    pub fn is_complete(&self, bounds: &VariableBounds) -> bool {
+        let grid = ReachTable::grid(bounds);
+        self.patch_length_mm == bounds.h_max_mm
+            && self.entries.len() == grid.len()
+            && (self.entries.iter().zip(&grid))
+                .all(|(e, &(w, t))| e.width_mm == w && e.theta_deg == t)
     }
 
     /// The entries of the widest patch, by angle: the edge of what the

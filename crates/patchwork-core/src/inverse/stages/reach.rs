@@ -1,10 +1,11 @@
 //! The reach stage: before the search, what one patch makes within the
 //! bounds (a table from the FE model on the verification mesh, its solves
-//! cached with the run's), and where the target asks for more; the report
-//! goes to the observer before the search starts.
+//! cached with the run's, the table kept for later runs of the scene by
+//! `reach::memo`), and where the target asks for more; the report goes to
+//! the observer before the search starts.
 
 use super::super::errors::DesignRunError;
-use super::super::reach::{ReachTable, WindowLengths, judge};
+use super::super::reach::{ReachTable, WindowLengths, judge, memo};
 use super::super::run::{Context, Run};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -18,15 +19,20 @@ impl Reach {
     ) -> Result<(), DesignRunError> {
         let setup = &run.setup;
         let bounds = &setup.settings.bounds;
-        let table = ReachTable::compute(
-            &setup.settings.base,
-            bounds,
-            &setup.verify_model,
-            ctx.caches,
-            setup.settings.threads,
-            ctx.cancel,
-        )
-        .map_err(DesignRunError::Reach)?;
+        let base = &setup.settings.base;
+        let compute = || {
+            ReachTable::compute(
+                base,
+                bounds,
+                &setup.verify_model,
+                ctx.caches,
+                setup.settings.threads,
+                ctx.cancel,
+            )
+        };
+        let key = memo::key(base, bounds, &setup.verify_model);
+        let table = memo::table_for(&key, compute, |t| t.is_complete(bounds))
+            .map_err(DesignRunError::Reach)?;
         ctx.check_cancelled()?;
         let lengths = WindowLengths {
             bend_mm: bounds.h_min_mm,
