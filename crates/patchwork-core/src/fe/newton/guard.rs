@@ -66,10 +66,8 @@ pub fn guard_definiteness(
     // point is outside the domain or its energy is above `cap` (judged before
     // the factorisation, which a refused point does not need).
     let mut test = |point: &[f64], known: Option<Linearisation>, cap: Option<f64>| {
-        let linearised = match known {
-            Some(known) => Some(known),
-            None => timed(&mut stats.assembly_time, || potential.linearise(point)),
-        };
+        let linearised =
+            known.or_else(|| timed(&mut stats.assembly_time, || potential.linearise(point)));
         let mut here = linearised.filter(|l| cap.is_none_or(|cap| l.potential <= cap))?;
         let (used, attempts) = timed(&mut stats.factor_time, || {
             factor_with_shift(factor, &mut here.values, shift, here.stiffness, ceiling)
@@ -77,8 +75,9 @@ pub fn guard_definiteness(
         stats.factorisations += attempts;
         Some((here, used))
     };
-    // The line search accepted its own point by `Potential::energy` (summed
-    // in another order), so its energy is not judged again.
+    // The line search accepted its own point (a full step by the energy of
+    // its linearisation, a shorter one by `Potential::energy`, summed in
+    // another order), so its energy is not judged again.
     let (here, used) = test(&next, linearised, None)?;
     if used.is_ok() || !ceiling.is_finite() {
         // Passed, or the guard is off: the point is taken as it is.
