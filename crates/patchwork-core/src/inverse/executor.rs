@@ -78,7 +78,7 @@ pub fn design_resumable(
         times.push(StageTime {
             stage: stage.name(),
             seconds: ctx.elapsed_s() - started,
-            evaluations: run.state.evaluations - before,
+            evaluations: run.state.evaluations - before + std::mem::take(&mut run.uncounted_solves),
         });
         note_time_limit(&mut run, stage.name(), &ctx);
     }

@@ -81,7 +81,10 @@ impl StageName {
 }
 
 /// One stage's share of a run: its wall time and the forward solves it
-/// counted (every stage's own; the search's include the seed's).
+/// counted (every stage's own; the search's include the seed's). The
+/// reach stage's solves (its table's balloons, none when the table was
+/// kept from an earlier run) are not in the run's `evaluations`, which
+/// count against the budget.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct StageTime {
     pub stage: StageName,

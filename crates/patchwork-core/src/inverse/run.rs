@@ -274,6 +274,10 @@ pub struct Run<'a> {
     pub final_refine_skipped: Option<String>,
     /// The reach stage's report, once it ran.
     pub reach: Option<ReachReport>,
+    /// Solves of the stage under way that `state.evaluations` (the
+    /// search's count, which the search sets) leaves out: the reach
+    /// table's. The executor adds them to the stage's time and clears them.
+    pub uncounted_solves: usize,
     /// The layouts the layout stage tried (none when it did not run).
     pub layouts: Vec<LayoutTrial>,
     /// The spread stage's answer, or why it has none.
@@ -313,6 +317,7 @@ impl<'a> Run<'a> {
             final_refine: None,
             final_refine_skipped: None,
             reach: None,
+            uncounted_solves: 0,
             layouts: Vec::new(),
             spread: None,
             spread_failed: None,
