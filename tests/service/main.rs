@@ -4,6 +4,7 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+mod schema;
 mod support;
 mod webdriver;
 

@@ -1,5 +1,6 @@
 //! A real `patchwork serve` process on port 0 with a fresh database, an HTTP
-//! client, a server-sent-events reader and validation against openapi.yaml.
+//! client, a server-sent-events reader, and validation against openapi.yaml
+//! (`schema.rs`).
 //!
 //! The database is a SQLite file, or with `PATCHWORK_TEST_POSTGRES` set to a
 //! PostgreSQL server's URL (`.ci/run` starts a throwaway one), a fresh
@@ -8,11 +9,12 @@
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use futures_util::StreamExt;
 use serde_json::{Value, json};
+
+pub use crate::schema::assert_schema;
 
 pub struct Server {
     child: Child,
@@ -352,32 +354,6 @@ fn parse_block(block: &str) -> Option<SseEvent> {
         kind: kind?,
         data: serde_json::from_str(&data).ok()?,
     })
-}
-
-/// openapi.yaml as JSON.
-fn spec() -> &'static Value {
-    static SPEC: OnceLock<Value> = OnceLock::new();
-    SPEC.get_or_init(|| {
-        let text =
-            std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("openapi.yaml"))
-                .unwrap();
-        serde_norway::from_str(&text).unwrap()
-    })
-}
-
-/// Asserts `value` is valid against `#/components/schemas/{schema}`.
-pub fn assert_schema(schema: &str, value: &Value) {
-    let root = json!({
-        "$schema": "https://json-schema.org/draft/2020-12/schema",
-        "$ref": format!("#/components/schemas/{schema}"),
-        "components": spec()["components"],
-    });
-    let validator = jsonschema::validator_for(&root).expect("the spec's schemas compile");
-    let errors: Vec<String> = validator
-        .iter_errors(value)
-        .map(|e| format!("{} at {}", e, e.instance_path()))
-        .collect();
-    assert!(errors.is_empty(), "{schema}: {errors:?}\n{value}");
 }
 
 /// Asserts a problem+json response with `status`, naming `field` when given.

@@ -5,7 +5,9 @@
 //! each migrated at start from its own `migrations/` folder. Most statements
 //! are written once for both (`statements.rs`, `transfer.rs`); each backend
 //! adds how it opens and its `Dialect`. Both pass the same conformance suite
-//! (`conformance.rs`), and the service tests run against both.
+//! (`conformance.rs`); the service tests run against SQLite, and those of
+//! several nodes, outages, recovery and a job's run end to end against
+//! PostgreSQL as well.
 
 #[cfg(test)]
 mod conformance;

@@ -59,10 +59,13 @@ pub fn bare(sim: &Simulation) -> Option<Bare> {
     })
 }
 
-/// The model every calibration solve runs.
+/// The model every calibration solve runs, its assemblies on every core:
+/// a fit of one or two parameters solves mostly one balloon at a time (the
+/// same answer for any thread count).
 pub fn options() -> SimulateOptions {
     SimulateOptions {
         mesh: MeshSpec::default_simulation(),
+        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
         ..SimulateOptions::default()
     }
 }
