@@ -63,7 +63,7 @@ pub struct DesignFlags {
     fix_length: bool,
     /// Threads: a generation's candidates side by side, and a lone solve's
     /// assembly (the same design for any count).
-    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+    #[arg(long, default_value_t = patchwork_core::available_cores())]
     threads: usize,
     /// Expert tuning over the preset as JSON (file, `-` or inline); fields in docs/tuning.md.
     #[arg(long, value_name = "JSON")]

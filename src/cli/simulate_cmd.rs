@@ -47,7 +47,7 @@ pub struct SimulateArgs {
     #[arg(long, default_value = "laminate")]
     cut_elements: CutElements,
     /// Threads the solve assembles on (the same result for any count).
-    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+    #[arg(long, default_value_t = patchwork_core::available_cores())]
     threads: usize,
     /// Also write the inflated surface (balloon.vtk, balloon.ply) and the
     /// centreline (centreline.csv) here.

@@ -61,9 +61,7 @@ pub fn run(args: SpreadArgs) -> Result<()> {
         mesh: MeshSpec::default_simulation(),
         ..SimulateOptions::default()
     };
-    let threads = args
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let threads = args.threads.unwrap_or_else(patchwork_core::available_cores);
     let check = args.monte_carlo.map(|samples| Check {
         // At most 10000 (the parser's range).
         samples: samples as usize,

@@ -98,7 +98,7 @@ impl Config {
                 .collect(),
             _ => file.api_keys.unwrap_or_default(),
         };
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let cores = patchwork_core::available_cores();
         let workers = args.workers.or(file.workers).unwrap_or(cores);
         let db = Database::parse(&args.db);
         anyhow::ensure!(

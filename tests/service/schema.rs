@@ -20,7 +20,7 @@ struct Validator {
 }
 
 /// openapi.yaml as JSON.
-fn spec() -> &'static Value {
+pub fn spec() -> &'static Value {
     static SPEC: OnceLock<Value> = OnceLock::new();
     SPEC.get_or_init(|| {
         let text =

@@ -24,3 +24,4 @@ mod parallel;
 pub mod spread;
 
 pub use curve::{Curve, CurveError, Point};
+pub use parallel::available_cores;

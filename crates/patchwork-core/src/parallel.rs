@@ -13,6 +13,12 @@ thread_local! {
     static IN_PARALLEL_LOOP: Cell<bool> = const { Cell::new(false) };
 }
 
+/// The cores this process may use (1 where the system cannot say): the
+/// default thread count of every command, job and calibration.
+pub fn available_cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
 /// Whether the caller runs on a thread of a parallel loop (an inner loop
 /// should then not spawn threads of its own).
 pub(crate) fn nested() -> bool {

@@ -46,7 +46,7 @@ fn check_guard(design: &Design, at_most: f64) {
                 definiteness_guard: guard,
                 ..NewtonOptions::default()
             },
-            threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            threads: patchwork_core::available_cores(),
             ..SimulateOptions::default()
         };
         simulate(design, &options).expect("the scene converges")

@@ -49,7 +49,7 @@ fn every_random_design_within_the_bounds_converges_to_a_stable_state() {
     let started = std::time::Instant::now();
     // The cases on every core (the test binary has no other test to run
     // beside it); each checked where it was solved.
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
+    let threads = patchwork_core::available_cores().min(4);
     let solved: Vec<(usize, usize)> = std::thread::scope(|scope| {
         let workers: Vec<_> = (0..threads)
             .map(|t| {

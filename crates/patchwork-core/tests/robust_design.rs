@@ -27,7 +27,7 @@ fn a_robust_design_lowers_the_shape_error_expected_at_the_tolerances() {
     let settings = UserSettings {
         fidelity: Fidelity::Draft,
         budget: Some(40),
-        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        threads: patchwork_core::available_cores(),
         ..UserSettings::default()
     };
     let overrides = TuningOverrides {

@@ -45,6 +45,6 @@ pub struct BenchArgs {
     #[arg(long, value_delimiter = ',')]
     pub settings: Vec<String>,
     /// Threads evaluating a generation.
-    #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+    #[arg(long, default_value_t = patchwork_core::available_cores())]
     pub threads: usize,
 }

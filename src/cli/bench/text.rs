@@ -85,7 +85,7 @@ fn machine() -> String {
         .and_then(|l| l.split(':').nth(1))
         .map_or("unknown CPU", str::trim)
         .to_string();
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cores = patchwork_core::available_cores();
     let memory_gib = read("/proc/meminfo")
         .lines()
         .find_map(|l| l.strip_prefix("MemTotal:"))

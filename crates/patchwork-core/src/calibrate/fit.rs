@@ -108,7 +108,7 @@ fn jacobian_at(
     r: &ResidualFn,
     evaluations: &mut usize,
 ) -> Option<DMatrix<f64>> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = crate::available_cores();
     let columns: Vec<usize> = (0..x.len()).collect();
     let found = map_in_threads(&columns, threads, &|&k| {
         // Forward, or backward where the model has no answer forward (the

@@ -65,7 +65,7 @@ pub fn bare(sim: &Simulation) -> Option<Bare> {
 pub fn options() -> SimulateOptions {
     SimulateOptions {
         mesh: MeshSpec::default_simulation(),
-        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        threads: crate::available_cores(),
         ..SimulateOptions::default()
     }
 }

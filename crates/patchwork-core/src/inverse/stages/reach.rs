@@ -6,8 +6,6 @@
 //! none when the table was kept) count in its stage time, not in the
 //! search's evaluations.
 
-use std::cell::Cell;
-
 use super::super::errors::DesignRunError;
 use super::super::reach::{ReachTable, WindowLengths, judge, memo};
 use super::super::run::{Context, Run};
@@ -25,9 +23,9 @@ impl Reach {
         let bounds = &setup.settings.bounds;
         let base = &setup.settings.base;
         // The grid's balloons, when the table is computed rather than kept.
-        let solves = Cell::new(0);
+        let mut solves = 0;
         let compute = || {
-            solves.set(ReachTable::grid(bounds).len());
+            solves = ReachTable::grid(bounds).len();
             ReachTable::compute(
                 base,
                 bounds,
@@ -48,7 +46,7 @@ impl Reach {
         let report = judge(setup.target, table, lengths, setup.tuning.kappa_tol);
         ctx.report_reach(&report);
         run.reach = Some(report);
-        run.uncounted_solves += solves.get();
+        run.uncounted_solves += solves;
         Ok(())
     }
 }
