@@ -2,7 +2,7 @@
 
 mod common;
 use common::cli::{assert_one_line_error, json, patchwork, patchwork_with_stdin, temp_dir};
-use common::ezdxf_errors;
+use common::ezdxf_read;
 use serde_json::Value;
 
 const HILBERT: &str = "crates/patchwork-core/data/curves/hilbert_curve.csv";
@@ -509,10 +509,9 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
     ] {
         assert!(files.join(name).is_file(), "{name} not written");
     }
-    assert_eq!(ezdxf_errors(&files.join("patches.dxf")), 0);
-    assert_eq!(ezdxf_errors(&files.join("template.dxf")), 0);
     let csv = std::fs::read_to_string(files.join("design.csv")).unwrap();
     assert!(csv.starts_with("patch,x_mm,y_mm,h_mm,w_mm,theta_deg\nP1,"));
+    dxf_files_hold_the_patches(&files, &csv, &report["design"]["balloon"]);
     let svg = std::fs::read_to_string(files.join("template.svg")).unwrap();
     assert!(svg.contains(r#"viewBox="0 0"#) && svg.contains("<polygon"));
     // The template marks the patches among the spread's three largest
@@ -892,4 +891,42 @@ fn a_planar_curve_gets_a_planar_design() {
         "{patches:?}"
     );
     assert!(report["metrics"]["shape_error_percent"].as_f64().unwrap() < 2.0);
+}
+
+/// ezdxf reads the cut file as R12 in millimetres with no audit error, one
+/// closed W × H outline and one "P<i> HxW" label per patch of the CSV; the
+/// template's first outline is the unrolled balloon, and it holds more.
+fn dxf_files_hold_the_patches(files: &std::path::Path, csv: &str, balloon: &serde_json::Value) {
+    let cut = ezdxf_read(&files.join("patches.dxf"));
+    let template = ezdxf_read(&files.join("template.dxf"));
+    for read in [&cut, &template] {
+        assert_eq!(
+            (read.errors, read.version.as_str(), read.units),
+            (0, "AC1009", 4)
+        );
+    }
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').skip(1).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(cut.closed_outlines.len(), rows.len(), "{cut:?}");
+    for (i, (row, outline)) in rows.iter().zip(&cut.closed_outlines).enumerate() {
+        let (h, w) = (row[2], row[3]);
+        assert!(
+            (outline[0] - w).abs() < 2e-3 && (outline[1] - h).abs() < 2e-3,
+            "P{}: outline {outline:?}, patch {h} x {w}",
+            i + 1
+        );
+        let label = format!("P{} {h:.1}x{w:.1}", i + 1);
+        assert!(cut.texts.contains(&label), "{label} not in {:?}", cut.texts);
+    }
+    // 2π R0 × L0 of the designed balloon.
+    let sheet = template.closed_outlines[0];
+    let radius = balloon["radius_mm"].as_f64().expect("radius_mm");
+    let length = balloon["length_mm"].as_f64().expect("length_mm");
+    let circumference = std::f64::consts::TAU * radius;
+    let off = [sheet[0] - circumference, sheet[1] - length];
+    assert!(off.iter().all(|d| d.abs() < 1e-3), "{sheet:?}");
+    assert!(template.closed_outlines.len() > rows.len());
 }

@@ -10,12 +10,14 @@ use common::cli::{assert_one_line_error, json, patchwork, patchwork_with_stdin, 
 
 use serde_json::{Value, json};
 
-/// The reference balloon's length (clamp to tip) and diameter, as the model
-/// gives them at 18–25 kPa (rounded as a lab would write them).
+/// A 100 mm balloon of the reference latex (its radius and wall): its
+/// length (clamp to tip) and diameter as the model gives them at 18–25 kPa
+/// (rounded as a lab would write them).
 const REFERENCE: &str = "pressure_kpa,length_mm,diameter_mm\n\
-                         18,887.7,27.46\n20,1062.7,32.85\n22,1251.5,38.71\n25,1559.5,48.26\n";
+                         18,300.9,27.46\n20,360.9,32.85\n22,424.8,38.71\n25,528.8,48.26\n";
 
-const START: &str = r#"{"material": {"model": "arruda_boyce", "mu_mpa": 0.36, "lambda_m": 2.6}}"#;
+const START: &str =
+    r#"{"length_mm": 100, "material": {"model": "arruda_boyce", "mu_mpa": 0.36, "lambda_m": 2.6}}"#;
 
 #[test]
 fn calibrate_recovers_the_reference_latex_and_writes_its_options() {
@@ -74,14 +76,14 @@ fn calibrate_refuses_bad_data_in_one_line() {
     assert_one_line_error(&patchwork(&["calibrate", "missing.csv"]), "missing.csv");
 }
 
-/// A 120 mm balloon with three patches turned alike (part of a helix),
+/// An 80 mm balloon with two patches turned alike (part of a helix),
 /// its patch material's μ given.
 fn design(patch_mu: f64) -> Value {
     let patch = |y: f64| json!({"x_mm": 0, "y_mm": y, "h_mm": 20, "w_mm": 3, "theta_deg": 25});
     json!({
-        "balloon": {"length_mm": 120},
+        "balloon": {"length_mm": 80},
         "patch": {"material": {"model": "neo_hookean", "mu_mpa": patch_mu, "bulk_ratio": 20.0}},
-        "patches": [patch(30.0), patch(60.0), patch(90.0)],
+        "patches": [patch(25.0), patch(55.0)],
     })
 }
 

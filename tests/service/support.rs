@@ -278,13 +278,23 @@ pub fn quick_job(budget: usize) -> Value {
     })
 }
 
-/// A job that runs for about 20 ms per evaluation (a part-turn helix) and
-/// spends its whole budget (no early end when the search stalls).
+/// A job that stops after its seed stage (a time limit of 1 ms): KSA's
+/// design, verified, in about a third of a second.
+pub fn seed_only_job() -> Value {
+    json!({
+        "curve": {"preset": "arc", "params": {"radius_mm": 40, "angle_deg": 90}},
+        "options": {"seed": 3, "fidelity": "draft", "time_limit_s": 0.001}
+    })
+}
+
+/// A job that runs for about 20 ms per evaluation (a part-turn helix),
+/// spends its whole budget in the search (no early end when it stalls) and
+/// then refines nothing.
 pub fn long_job(budget: usize) -> Value {
     json!({
         "curve": {"preset": "helix", "params": {"radius_mm": 15, "pitch_mm": 40, "turns": 0.6}},
         "options": {"budget": budget, "seed": 5, "fidelity": "draft"},
-        "tuning": {"search_patience": 0}
+        "tuning": {"search_patience": 0, "refine_budget": 0}
     })
 }
 

@@ -4,7 +4,7 @@
 //! never a panic, a NaN or a hang (every solve runs under an iteration and a
 //! time cap). The suite prints each case.
 
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use patchwork_core::CurveError;
@@ -12,7 +12,7 @@ use patchwork_core::cmaes::SeededRng;
 use patchwork_core::curve::{Curve, Point, Preset};
 use patchwork_core::design::{Balloon, Design, Patch};
 use patchwork_core::fe::newton::NewtonOptions;
-use patchwork_core::fe::{SimulateError, SimulateOptions, simulate};
+use patchwork_core::fe::{SimulateError, SimulateOptions, Simulation, simulate};
 use patchwork_core::inverse::{Fidelity, Plan, TuningOverrides, UserSettings, design};
 use patchwork_core::material::{Compressibility, Law, Material};
 
@@ -60,6 +60,15 @@ fn short(length_mm: f64, patches: Vec<Patch>) -> Design {
     }
 }
 
+/// A forward case's outcome and how long it took.
+type Solved = (Result<Simulation, SimulateError>, Duration);
+
+fn solve(design: &Design) -> Solved {
+    let started = Instant::now();
+    let outcome = simulate(design, &options());
+    (outcome, started.elapsed())
+}
+
 /// What a forward case must end in.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Expect {
@@ -93,9 +102,48 @@ struct Tally {
 impl Tally {
     /// Runs one forward case and checks its outcome against `expect`.
     fn simulate(&mut self, name: &str, design: &Design, expect: Expect) {
-        let started = Instant::now();
-        let outcome = simulate(design, &options());
-        let elapsed = started.elapsed();
+        let (outcome, elapsed) = solve(design);
+        self.check(name, expect, outcome, elapsed);
+    }
+
+    /// Runs forward cases on every core, then checks each outcome in order.
+    fn simulate_all(&mut self, cases: Vec<(String, Design, Expect)>) {
+        let next = AtomicUsize::new(0);
+        let threads = patchwork_core::available_cores().min(cases.len());
+        let mut solved: Vec<(usize, Solved)> = std::thread::scope(|scope| {
+            let workers: Vec<_> = (0..threads)
+                .map(|_| {
+                    scope.spawn(|| {
+                        let mut done = Vec::new();
+                        loop {
+                            let i = next.fetch_add(1, Ordering::Relaxed);
+                            let Some((_, design, _)) = cases.get(i) else {
+                                return done;
+                            };
+                            done.push((i, solve(design)));
+                        }
+                    })
+                })
+                .collect();
+            workers
+                .into_iter()
+                .flat_map(|w| w.join().expect("a solve does not panic"))
+                .collect()
+        });
+        solved.sort_by_key(|(i, _)| *i);
+        for ((name, _, expect), (_, (outcome, elapsed))) in cases.into_iter().zip(solved) {
+            self.check(&name, expect, outcome, elapsed);
+        }
+    }
+
+    /// Checks one forward case's outcome against `expect`.
+    fn check(
+        &mut self,
+        name: &str,
+        expect: Expect,
+        outcome: Result<Simulation, SimulateError>,
+        elapsed: Duration,
+    ) {
         assert!(elapsed < SOLVE_CAP * 8, "{name}: {elapsed:?} (hang?)");
         let ms = elapsed.as_secs_f64() * 1e3;
         let line = match (&outcome, expect) {
@@ -460,7 +508,7 @@ fn first_patch_off_the_balloon(d: &Design) -> Option<usize> {
 fn random_designs_far_outside_the_bounds_converge_or_are_refused() {
     let mut t = Tally::default();
     let mut rng = SeededRng::new(424242);
-    let mut refused = 0;
+    let mut cases = Vec::new();
     for i in 0..100 {
         let n = 1 + (rng.uniform() * 8.0) as usize;
         let patches = (0..n)
@@ -480,9 +528,13 @@ fn random_designs_far_outside_the_bounds_converge_or_are_refused() {
             None => Expect::ConvergesOrFails,
             Some(i) => Expect::Invalid(format!("patches[{i}].y_mm").leak()),
         };
-        refused += usize::from(expect != Expect::ConvergesOrFails);
-        t.simulate(&format!("random design {i}"), &d, expect);
+        cases.push((format!("random design {i}"), d, expect));
     }
+    let refused = cases
+        .iter()
+        .filter(|(_, _, expect)| *expect != Expect::ConvergesOrFails)
+        .count();
+    t.simulate_all(cases);
     t.report("random abusive designs");
     assert!(
         (1..=50).contains(&refused),

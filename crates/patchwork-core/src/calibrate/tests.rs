@@ -1,8 +1,8 @@
 //! Calibration against synthetic truth: balloons of known materials
 //! inflated by the FE model, their measurements given noise (seeded), fitted
-//! back from the reference materials. The bare balloons are 100 mm long
+//! back from the reference materials. The bare balloons are 70 mm long
 //! (the reference's radius and wall): a long tube's middle and ends at a
-//! third of the reference's solve time.
+//! quarter of the reference's solve time.
 
 use super::*;
 use crate::cmaes::SeededRng;
@@ -23,10 +23,10 @@ fn truth() -> Balloon {
     }
 }
 
-/// The reference latex on a 100 mm balloon.
+/// The reference latex on a 70 mm balloon.
 fn start() -> Balloon {
     Balloon {
-        length_mm: 100.0,
+        length_mm: 70.0,
         ..Balloon::default()
     }
 }
@@ -160,7 +160,7 @@ fn points_past_the_pressure_peak_are_left_out_and_said() {
     assert_eq!(left_out, vec![1, 2]);
 }
 
-/// A 120 mm balloon with three patches turned alike (part of a helix).
+/// An 80 mm balloon with two patches turned alike (part of a helix).
 fn three_patches() -> Design {
     let patch = |y_mm: f64| Patch {
         x_mm: 0.0,
@@ -169,8 +169,8 @@ fn three_patches() -> Design {
         w_mm: 3.0,
         theta_deg: 25.0,
     };
-    let mut design = Design::reference(vec![patch(30.0), patch(60.0), patch(90.0)]);
-    design.balloon.length_mm = 120.0;
+    let mut design = Design::reference(vec![patch(25.0), patch(55.0)]);
+    design.balloon.length_mm = 80.0;
     design
 }
 

@@ -66,12 +66,12 @@ pub fn design_files(report: &crate::inverse::DesignReport) -> Result<Vec<OutputF
         file(
             "patches.dxf",
             "application/dxf",
-            cut_file_dxf(&report.design)?,
+            cut_file_dxf(&report.design),
         ),
         file(
             "template.dxf",
             "application/dxf",
-            template_dxf(&report.design)?,
+            template_dxf(&report.design),
         ),
         file(
             "template.svg",

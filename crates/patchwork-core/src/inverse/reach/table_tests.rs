@@ -145,7 +145,11 @@ fn simulated_trains_are_within_reach() {
         rings: 100,
         ..model()
     };
-    for design in [&designs[0], &designs[5], &designs[8]] {
+    for (i, design) in designs
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| [0, 5, 8].contains(i))
+    {
         let simulation = crate::fe::simulate(design, &sampled).unwrap();
         let report = judge(&simulation.centreline, table.clone(), lengths, 0.01);
         assert!(report.reachable(), "{:?}", report.out_of_reach);
@@ -154,17 +158,15 @@ fn simulated_trains_are_within_reach() {
         let (prepared, input) = prepare(&simulation.centreline, Smoothing::Auto, 0.01).unwrap();
         assert_eq!(input.smoothing_mm, 0.0, "noise {}", input.noise_mm);
         assert!(judge(&prepared, table.clone(), lengths, 0.01).reachable());
-    }
-    // Sampled finely (400 rings, 2.5 mm apart), a helix fitted over the
-    // twist window across an inflection asks 27–92 twist per bend at one
-    // window between windows within reach; such lone windows do not count.
-    for design in [&designs[0], &designs[5]] {
-        let fine = SimulateOptions {
-            rings: 400,
-            ..model()
-        };
-        let simulation = crate::fe::simulate(design, &fine).unwrap();
-        let report = judge(&simulation.centreline, table.clone(), lengths, 0.01);
+        if i == 8 {
+            continue;
+        }
+        // Sampled finely (400 rings, 2.5 mm apart), a helix fitted over the
+        // twist window across an inflection asks 27–92 twist per bend at one
+        // window between windows within reach; such lone windows do not count.
+        let fine = crate::fe::centreline::rings(&simulation.mesh, &simulation.positions, 400);
+        let centreline = Curve::from_points(fine.iter().map(|r| r.centre).collect()).unwrap();
+        let report = judge(&centreline, table.clone(), lengths, 0.01);
         assert!(report.reachable(), "{:?}", report.out_of_reach);
     }
 }
