@@ -25,22 +25,17 @@ impl Drawing {
         }
     }
 
-    /// One group: its code, then its value, each on a line.
     fn group(&mut self, code: u16, value: impl std::fmt::Display) {
-        // Writing to a String cannot fail.
-        let _ = write!(self.body, "{code}\n{value}\n");
+        group(&mut self.body, code, value);
     }
 
-    /// A point's groups (x at `code`, y at `code + 10`, z = 0 at `code + 20`),
-    /// to 0.1 µm, widening the extents.
+    /// A point's groups, widening the extents.
     fn point(&mut self, code: u16, p: [f64; 2]) {
         for ((min, max), v) in self.min.iter_mut().zip(&mut self.max).zip(p) {
             *min = min.min(v);
             *max = max.max(v);
         }
-        self.group(code, format_args!("{:.4}", p[0]));
-        self.group(code + 10, format_args!("{:.4}", p[1]));
-        self.group(code + 20, "0.0");
+        point(&mut self.body, code, p);
     }
 
     /// An entity's head: its type and layer 0.
@@ -91,29 +86,47 @@ impl Drawing {
     /// The file: HEADER ($ACADVER AC1009, $INSUNITS 4 = millimetres,
     /// $EXTMIN/$EXTMAX), ENTITIES, EOF.
     fn finish(self) -> Vec<u8> {
-        let mut out = Drawing::new();
-        out.group(0, "SECTION");
-        out.group(2, "HEADER");
-        out.group(9, "$ACADVER");
-        out.group(1, "AC1009");
-        out.group(9, "$INSUNITS");
-        out.group(70, 4);
+        let mut out = String::new();
+        for (code, value) in [
+            (0, "SECTION"),
+            (2, "HEADER"),
+            (9, "$ACADVER"),
+            (1, "AC1009"),
+        ] {
+            group(&mut out, code, value);
+        }
+        group(&mut out, 9, "$INSUNITS");
+        group(&mut out, 70, 4);
         let (min, max) = match self.min[0].is_finite() {
             true => (self.min, self.max),
             false => ([0.0; 2], [0.0; 2]),
         };
-        out.group(9, "$EXTMIN");
-        out.point(10, min);
-        out.group(9, "$EXTMAX");
-        out.point(10, max);
-        out.group(0, "ENDSEC");
-        out.group(0, "SECTION");
-        out.group(2, "ENTITIES");
-        out.body.push_str(&self.body);
-        out.group(0, "ENDSEC");
-        out.group(0, "EOF");
-        out.body.into_bytes()
+        group(&mut out, 9, "$EXTMIN");
+        point(&mut out, 10, min);
+        group(&mut out, 9, "$EXTMAX");
+        point(&mut out, 10, max);
+        for (code, value) in [(0, "ENDSEC"), (0, "SECTION"), (2, "ENTITIES")] {
+            group(&mut out, code, value);
+        }
+        out.push_str(&self.body);
+        group(&mut out, 0, "ENDSEC");
+        group(&mut out, 0, "EOF");
+        out.into_bytes()
     }
+}
+
+/// One group: its code, then its value, each on a line.
+fn group(out: &mut String, code: u16, value: impl std::fmt::Display) {
+    // Writing to a String cannot fail.
+    let _ = write!(out, "{code}\n{value}\n");
+}
+
+/// A point's groups: x at `code`, y at `code + 10`, z = 0 at `code + 20`,
+/// to 0.1 µm.
+fn point(out: &mut String, code: u16, p: [f64; 2]) {
+    group(out, code, format_args!("{:.4}", p[0]));
+    group(out, code + 10, format_args!("{:.4}", p[1]));
+    group(out, code + 20, "0.0");
 }
 
 /// `patches.dxf`: every patch as a closed H × W outline, labelled "P1 18.4x1.5",
