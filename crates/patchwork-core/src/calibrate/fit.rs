@@ -3,9 +3,17 @@
 //! differences (its columns in parallel); then the parameters' covariance σ² (JᵀJ)⁻¹ with
 //! σ² = RSS / (m − n), their 95 % intervals from Student's t, and their
 //! correlations.
+//!
+//! The damping follows the step's gain ratio after an accepted step
+//! (Nielsen's rule, as the design refine's solver) and grows fourfold after
+//! a refused one. The fit stops where going on changes nothing a
+//! measurement could see: an accepted step that lowers |r|² by less than
+//! [`MIN_GAIN`] of it, or a step that would move no parameter by more than
+//! [`MIN_STEP`] (relative; not evaluated).
 
 use nalgebra::{DMatrix, DVector};
 
+use crate::least_squares::levenberg_marquardt::{damping_factor, gain_ratio};
 use crate::parallel::map_in_threads;
 
 /// The residuals at a point; none where the model has no answer.
@@ -14,6 +22,12 @@ pub type ResidualFn<'a> = dyn Fn(&[f64]) -> Option<Vec<f64>> + Sync + 'a;
 /// Relative step of the forward differences (in log space).
 const STEP: f64 = 1e-3;
 const MAX_ITERATIONS: usize = 30;
+/// A step that lowers |r|² by less than this fraction of it ends the fit:
+/// the parameters then move by far less than their intervals' width.
+const MIN_GAIN: f64 = 1e-6;
+/// A step (in the logarithms) that moves every parameter by less than this
+/// ends the fit: 0.001 %, below what the FE solves resolve.
+const MIN_STEP: f64 = 1e-5;
 
 /// A least-squares fit of `n` log-parameters.
 pub struct Fit {
@@ -29,8 +43,9 @@ pub struct Fit {
     pub evaluations: usize,
 }
 
-/// Called after the start and after each iteration with the point, its
-/// residuals and the evaluations so far; answers whether to go on.
+/// Called after the start, before each iteration and at the end (unless no
+/// evaluation came since the last call) with the point, its residuals and
+/// the evaluations so far; answers whether to go on.
 pub type StepFn<'a> = dyn FnMut(&[f64], &[f64], usize) -> bool + 'a;
 
 /// Why a fit has no answer.
@@ -57,28 +72,32 @@ pub fn levenberg_marquardt(
     let mut damping = 1e-3;
     let cost = |v: &[f64]| v.iter().map(|e| e * e).sum::<f64>();
     let mut jacobian = jacobian_at(&x, &rx, r, &mut evaluations).ok_or(NoFit::NoStart)?;
+    let mut reported = evaluations;
     for _ in 0..MAX_ITERATIONS {
         if !watch(&x, &rx, evaluations) {
             return Err(NoFit::Stopped);
         }
+        reported = evaluations;
         let jtj = jacobian.transpose() * &jacobian;
         let g = jacobian.transpose() * DVector::from_column_slice(&rx);
         let mut a = jtj.clone();
         for i in 0..x.len() {
             a[(i, i)] += damping * jtj[(i, i)].max(1e-12);
         }
-        let Some(step) = a.lu().solve(&(-g)) else {
+        let Some(step) = a.lu().solve(&(-g)).filter(|s| s.amax() >= MIN_STEP) else {
             break;
         };
         let trial: Vec<f64> = x.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
         evaluations += 1;
         match r(&trial) {
             Some(rt) if cost(&rt) < cost(&rx) => {
+                let predicted = (&jacobian * &step + DVector::from_column_slice(&rx)).norm();
+                let ratio = gain_ratio(cost(&rx).sqrt(), cost(&rt).sqrt(), predicted);
                 let gain = cost(&rx) - cost(&rt);
                 x = trial;
                 rx = rt;
-                damping = (damping / 3.0).max(1e-9);
-                if gain < 1e-12 * cost(&rx).max(1e-30) || step.norm() < 1e-8 {
+                damping = (damping * damping_factor(ratio)).max(1e-9);
+                if gain < MIN_GAIN * cost(&rx) {
                     break;
                 }
                 match jacobian_at(&x, &rx, r, &mut evaluations) {
@@ -94,7 +113,8 @@ pub fn levenberg_marquardt(
             }
         }
     }
-    if !watch(&x, &rx, evaluations) {
+    // The answer, unless the last report was of it already.
+    if evaluations > reported && !watch(&x, &rx, evaluations) {
         return Err(NoFit::Stopped);
     }
     let mut fit = statistics(x, rx, &jacobian, evaluations);

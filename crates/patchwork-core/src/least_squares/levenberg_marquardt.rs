@@ -301,7 +301,7 @@ impl<P: Residuals> Minimiser<'_, P> {
 /// |r|² it achieved over the fall the linear model predicted (to
 /// `predicted`). ρ near 1: the model held over the step; near 0: it barely
 /// did.
-fn gain_ratio(current: f64, actual: f64, predicted: f64) -> f64 {
+pub(crate) fn gain_ratio(current: f64, actual: f64, predicted: f64) -> f64 {
     let expected = current * current - predicted * predicted;
     match expected > 0.0 {
         true => (current * current - actual * actual) / expected,
@@ -314,7 +314,7 @@ fn gain_ratio(current: f64, actual: f64, predicted: f64) -> f64 {
 /// lowers the damping threefold, one it predicted half-right keeps it, and
 /// one it barely predicted raises it up to twofold — rather than a fixed
 /// fall that sends the next step past where the model holds.
-fn damping_factor(ratio: f64) -> f64 {
+pub(crate) fn damping_factor(ratio: f64) -> f64 {
     let r = ratio.clamp(0.0, 1.0);
     (1.0 - (2.0 * r - 1.0).powi(3)).max(1.0 / 3.0)
 }
