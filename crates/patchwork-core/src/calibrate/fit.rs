@@ -70,7 +70,8 @@ pub fn levenberg_marquardt(
     let start_residuals = rx.clone();
     let mut evaluations = 1;
     let mut damping = 1e-3;
-    let cost = |v: &[f64]| v.iter().map(|e| e * e).sum::<f64>();
+    let norm = |v: &[f64]| v.iter().map(|e| e * e).sum::<f64>().sqrt();
+    let mut error = norm(&rx);
     let mut jacobian = jacobian_at(&x, &rx, r, &mut evaluations).ok_or(NoFit::NoStart)?;
     let mut reported = evaluations;
     for _ in 0..MAX_ITERATIONS {
@@ -78,26 +79,26 @@ pub fn levenberg_marquardt(
             return Err(NoFit::Stopped);
         }
         reported = evaluations;
+        let residual = DVector::from_column_slice(&rx);
         let jtj = jacobian.transpose() * &jacobian;
-        let g = jacobian.transpose() * DVector::from_column_slice(&rx);
         let mut a = jtj.clone();
         for i in 0..x.len() {
             a[(i, i)] += damping * jtj[(i, i)].max(1e-12);
         }
+        let g = jacobian.transpose() * &residual;
         let Some(step) = a.lu().solve(&(-g)).filter(|s| s.amax() >= MIN_STEP) else {
             break;
         };
         let trial: Vec<f64> = x.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
         evaluations += 1;
-        match r(&trial) {
-            Some(rt) if cost(&rt) < cost(&rx) => {
-                let predicted = (&jacobian * &step + DVector::from_column_slice(&rx)).norm();
-                let ratio = gain_ratio(cost(&rx).sqrt(), cost(&rt).sqrt(), predicted);
-                let gain = cost(&rx) - cost(&rt);
-                x = trial;
-                rx = rt;
+        match r(&trial).map(|rt| (norm(&rt), rt)) {
+            Some((trial_error, rt)) if trial_error < error => {
+                let predicted = (&jacobian * &step + residual).norm();
+                let ratio = gain_ratio(error, trial_error, predicted);
+                let gain = error * error - trial_error * trial_error;
+                (x, rx, error) = (trial, rt, trial_error);
                 damping = (damping * damping_factor(ratio)).max(1e-9);
-                if gain < MIN_GAIN * cost(&rx) {
+                if gain < MIN_GAIN * error * error {
                     break;
                 }
                 match jacobian_at(&x, &rx, r, &mut evaluations) {
