@@ -121,8 +121,9 @@ pub fn section(curves: &[Row], sure: &[SureRow]) -> String {
     let draft: Vec<&Row> = curves.iter().filter(|r| r.setting == "draft").collect();
     if !draft.is_empty() {
         s.push_str(
-            "Every design reports its spread at the default tolerances (one solve per patch \
-             quantity and three for the balloon, on the verification model). Its cost in the \
+            "Every design reports its spread at the default tolerances (every patch quantity \
+             and the balloon's three linearised at once, those at half the largest change or \
+             more solved, on the verification model). Its cost in the \
              suite's `draft` runs above:\n\n\
              | curve | spread % of length | spread stage s | share of the run |\n|---|---|---|---|\n",
         );

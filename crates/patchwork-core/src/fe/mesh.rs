@@ -259,8 +259,14 @@ impl TubeMesh {
     /// rings at the same fractions of it, the cap moved with its rim. Node
     /// k stays the same material point of the stretched balloon (as the
     /// refine's length variable stretches the patches with it).
+    ///
+    /// At the mesh's own length every node stays exactly where it is (the
+    /// cap's shift is 0, not a rounding of (z + L) − L), so a model on the
+    /// stretched mesh shares every element a change leaves alone with the
+    /// model on this one ([`Model::gradient_change`](super::model::Model::gradient_change)).
     pub fn stretched_to(&self, length: f64) -> TubeMesh {
         let scale = length / self.length;
+        let shift = length - self.length;
         let tube_nodes = self.ring_y.len() * self.around;
         let nodes = self
             .nodes
@@ -270,7 +276,7 @@ impl TubeMesh {
                 let z = if k < tube_nodes {
                     p.z * scale
                 } else {
-                    p.z + length - self.length
+                    p.z + shift
                 };
                 Point::new(p.x, p.y, z)
             })
@@ -351,6 +357,31 @@ mod tests {
             search.to_string(),
             "graded 3 mm (bare stretches 6 mm), 16 around"
         );
+    }
+
+    /// Stretched to its own length a mesh is the same node for node, caps
+    /// included (a linearised change shares the elements it leaves alone
+    /// only then), at any length; and stretched to another length its
+    /// rings keep their fractions of it.
+    #[test]
+    fn a_mesh_stretched_to_its_own_length_is_itself() {
+        for k in 0..40 {
+            let length = 80.0 + 23.456_789_123 * k as f64;
+            let design = crate::design::Design {
+                balloon: crate::design::Balloon {
+                    length_mm: length,
+                    ..crate::design::Balloon::default()
+                },
+                ..crate::design::Design::reference(vec![])
+            };
+            let mesh = TubeMesh::for_design(&design, MeshSpec::graded(1.0, 4.0));
+            let same = mesh.stretched_to(mesh.length).nodes == mesh.nodes;
+            assert!(same, "{length} mm: nodes moved");
+            let longer = mesh.stretched_to(1.5 * mesh.length);
+            for (a, b) in longer.ring_y.iter().zip(&mesh.ring_y) {
+                assert!((a / longer.length - b / mesh.length).abs() < 1e-12);
+            }
+        }
     }
 
     /// The estimate counts the rings a uniform mesh of the fine size would

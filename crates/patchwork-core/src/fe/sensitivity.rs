@@ -142,6 +142,27 @@ mod tests {
         one.pop().flatten().expect("a linearised centreline")
     }
 
+    /// A patch moved along the tube changes the out-of-balance force only
+    /// on the nodes of the elements its outline crosses: the mesh stretched
+    /// to the same length is the same node for node, so every other element
+    /// is shared with the base model and left out.
+    #[test]
+    fn moving_a_patch_changes_the_force_only_near_its_outline() {
+        let (design, options, simulation) = scene();
+        let change = changed(&design, 1, 0.02);
+        let base = Model::new(&design, simulation.mesh.clone(), options.cut_elements);
+        let stretched = simulation.mesh.stretched_to(change.balloon.length_mm);
+        assert_eq!(stretched.nodes, simulation.mesh.nodes);
+        let moved = Model::new(&change, stretched, options.cut_elements);
+        let load = moved.gradient_change(&base, &simulation.positions).unwrap();
+        let touched = load.iter().filter(|f| **f != 0.0).count();
+        assert!(
+            touched > 0 && touched < load.len() / 5,
+            "{touched} of {}",
+            load.len()
+        );
+    }
+
     /// The unchanged design's linearised centreline is its own.
     #[test]
     fn an_unchanged_design_keeps_its_centreline() {

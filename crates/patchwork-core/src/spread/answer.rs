@@ -21,6 +21,21 @@ pub struct Contributor {
     pub rms_mm: f64,
     /// How far the tip moves at the tolerance, in the clamp's frame (mm).
     pub tip_mm: f64,
+    /// How the change was found (a result written before this field: solved).
+    #[serde(default)]
+    pub estimate: Estimate,
+}
+
+/// How a source's change was found.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Estimate {
+    /// A Newton solve of the design with the source at its tolerance.
+    #[default]
+    Solved,
+    /// The linearised response at the nominal state (a source under
+    /// `SOLVED_FRACTION` of the largest).
+    Linearised,
 }
 
 /// What the samples found.
@@ -64,8 +79,10 @@ pub struct Spread {
     pub expected_shape_error_percent: Option<f64>,
     /// Every source, the largest share first.
     pub contributors: Vec<Contributor>,
-    /// FE solves taken: one per source, and the nominal where it was
-    /// solved for the spread (not in a design run, which has it).
+    /// FE solves taken: one per source solved, one for the linearised
+    /// responses of all (a factorisation of the nominal's tangent), and the
+    /// nominal where it was solved for the spread (not in a design run,
+    /// which has it).
     pub solves: usize,
     /// The Monte-Carlo check, where one was asked for.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -4,8 +4,9 @@
 //! thickness and the material's modulus.
 //!
 //! The linear estimate ([`linear_spread`], [`spread_of`] from a known
-//! nominal state): one FE solve per source, each at its tolerance,
-//! warm-started from the nominal state; the centreline's change from the
+//! nominal state): each source at its tolerance, linearised at the nominal
+//! state, and the sources that matter (at least [`SOLVED_FRACTION`] of the
+//! largest) solved, warm-started from it; the centreline's change from the
 //! nominal (after the best rigid alignment, as the shape error is measured)
 //! and the tip's move in the clamp's frame. Tolerances
 //! are read as one standard deviation of independent errors, so the
@@ -22,9 +23,9 @@ mod monte_carlo;
 mod sources;
 mod tolerances;
 
-pub use answer::{Contributor, MonteCarlo, Spread};
+pub use answer::{Contributor, Estimate, MonteCarlo, Spread};
 pub use change::Nominal;
-pub use linear::{Against, Check, SpreadError, linear_spread, spread_of};
+pub use linear::{Against, Check, SOLVED_FRACTION, SpreadError, linear_spread, spread_of};
 pub use monte_carlo::{AGREEMENT, monte_carlo};
 pub use sources::{PatchQuantity, SOURCES_PER_PATCH, Source};
 pub use tolerances::Tolerances;
