@@ -7,7 +7,8 @@
 //! variables (patch geometry enters through exact overlap areas), so
 //! Gauss–Newton steps converge where CMA-ES's samples stall. The solver is
 //! the generic one ([`crate::least_squares`]: damped steps, Broyden updates,
-//! fresh Jacobians only when the secant one fails); this module is the
+//! fresh Jacobians when the secant one fails or predicts a step badly: the
+//! refine's linearised Jacobian costs one evaluation); this module is the
 //! problem.
 //!
 //! Residuals: the aligned sample differences rᵢ = R aᵢ + t − bᵢ of the
