@@ -76,10 +76,11 @@ impl Default for Settings {
 /// The default [`Settings::secant_ratio`]. On the curve suite under `draft`
 /// (18 curves, seed 1, `patchwork bench --suite curves --settings draft
 /// --runs 1`), against keeping every secant Jacobian until its steps stall:
-/// the refine's time 8 % less in all, the shape error lower on six curves
-/// (helix 0.10 → 0.04 %, trefoil 0.26 → 0.19 %) and higher on one (spring
-/// 0.22 → 0.26 %). A fresh Jacobian after every accepted step cut the time
-/// 13 % but raised one curve's error by 0.06 points.
+/// the refine's time 10 % less in all (217 s against 242 s), the shape
+/// error lower on six curves (helix 0.10 → 0.04 %, trefoil 0.26 → 0.19 %),
+/// higher on one (spring 0.22 → 0.26 %) and equal on eleven. A fresh
+/// Jacobian after every accepted step cut the time 16 % but raised one
+/// curve's error by 0.06 points.
 pub const SECANT_RATIO: f64 = 0.5;
 
 /// The caller cancelled the run.
