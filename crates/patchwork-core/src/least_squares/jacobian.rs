@@ -8,10 +8,12 @@ use crate::parallel::map_in_threads;
 
 /// A Jacobian of the residuals: forward differences (or the problem's cheap
 /// equivalent) at the current point (`fresh`), or a secant approximation
-/// carried along the steps by Broyden's update.
+/// carried along the steps by Broyden's update; `cheap` if it started as
+/// the problem's cheap one (a fresh one costs one evaluation).
 pub struct Jacobian {
     pub matrix: DMatrix<f64>,
     pub fresh: bool,
+    pub cheap: bool,
 }
 
 impl Jacobian {

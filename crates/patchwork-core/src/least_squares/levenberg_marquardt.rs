@@ -129,6 +129,7 @@ pub fn minimise<P: Residuals>(
         .map(|matrix| Jacobian {
             matrix,
             fresh: false,
+            cheap: false,
         });
     let mut run = Minimiser {
         problem,
@@ -140,7 +141,6 @@ pub fn minimise<P: Residuals>(
         refresh: jacobian.is_none(),
         jacobian,
         damping: settings.first_damping,
-        cheap: false,
         counts: Counts::default(),
         on_progress,
     };
@@ -174,8 +174,6 @@ struct Minimiser<'r, P: Residuals> {
     /// A fresh Jacobian is due before the next step.
     refresh: bool,
     damping: f64,
-    /// The last fresh Jacobian was the problem's cheap one.
-    cheap: bool,
     counts: Counts,
     on_progress: &'r mut dyn FnMut(usize, usize, &P::State),
 }
@@ -191,7 +189,7 @@ impl<P: Residuals> Minimiser<'_, P> {
         }
         let step = self.settings.step;
         let cheap = self.problem.cheap_jacobian(&self.current, step);
-        self.cheap = cheap.is_some();
+        let is_cheap = cheap.is_some();
         let matrix = match cheap {
             Some(matrix) => {
                 self.counts.evaluations += 1;
@@ -210,6 +208,7 @@ impl<P: Residuals> Minimiser<'_, P> {
         self.jacobian = Some(Jacobian {
             matrix,
             fresh: true,
+            cheap: is_cheap,
         });
         // The secant Jacobian's failures raised the damping; the fresh one
         // starts from no more than the first.
@@ -274,8 +273,10 @@ impl<P: Residuals> Minimiser<'_, P> {
         let gain = 1.0 - trial.error / self.current.error;
         let lowered = self.current.error - trial.error;
         let ratio = gain_ratio(self.current.error, trial.error, predicted);
+        let mut cheap = false;
         if let Some(j) = self.jacobian.as_mut() {
             j.fresh = false;
+            cheap = j.cheap;
         }
         self.current = trial;
         self.damping = (self.damping * damping_factor(ratio)).max(1e-9);
@@ -284,7 +285,7 @@ impl<P: Residuals> Minimiser<'_, P> {
         if gain < self.settings.min_gain || lowered < self.settings.resolution {
             return self.refresh_unless(fresh);
         }
-        if self.cheap && !fresh && ratio < self.settings.secant_ratio {
+        if cheap && !fresh && ratio < self.settings.secant_ratio {
             self.refresh = true;
         }
         After::Continue
