@@ -48,7 +48,7 @@ pub(super) fn deviatoric<T: Real>(model: &Law, c: [T; 3], c33: T, j: Option<T>) 
             // (i1_energy, which the thickness solve uses too), then one
             // chain-rule step: far cheaper than the series on AD numbers.
             let i1 = i1();
-            let (w, dw, d2w) = i1_energy(model, i1.value())?;
+            let [w, dw, d2w, _] = i1_energy(model, i1.value())?;
             Some(i1.apply(w, dw, d2w))
         }
         Law::MooneyRivlin { c10_mpa, c01_mpa } => {
@@ -70,31 +70,47 @@ pub(super) fn deviatoric<T: Real>(model: &Law, c: [T; 3], c33: T, j: Option<T>) 
     }
 }
 
-/// W(Ī₁) with dW/dĪ₁ and d²W/dĪ₁² for the laws that depend on Ī₁ alone
-/// (the Ī₁ part of Mooney–Rivlin too); `None` for Ogden, or past Gent's lock.
-pub(super) fn i1_energy(model: &Law, x: f64) -> Option<(f64, f64, f64)> {
+/// W(Ī₁) with its first three derivatives in Ī₁ for the laws that depend on
+/// Ī₁ alone (the Ī₁ part of Mooney–Rivlin too); `None` for Ogden, or past
+/// Gent's lock. The third serves the thickness solve's Halley steps.
+#[inline]
+pub(super) fn i1_energy(model: &Law, x: f64) -> Option<[f64; 4]> {
     match model {
-        Law::NeoHookean { mu_mpa } => Some((0.5 * mu_mpa * (x - 3.0), 0.5 * mu_mpa, 0.0)),
-        Law::MooneyRivlin { c10_mpa, .. } => Some((c10_mpa * (x - 3.0), *c10_mpa, 0.0)),
+        Law::NeoHookean { mu_mpa } => Some([0.5 * mu_mpa * (x - 3.0), 0.5 * mu_mpa, 0.0, 0.0]),
+        Law::MooneyRivlin { c10_mpa, .. } => Some([c10_mpa * (x - 3.0), *c10_mpa, 0.0, 0.0]),
         Law::Gent { mu_mpa, jm } => {
+            // W = −(μ J_m/2) ln A with A = 1 − (Ī₁ − 3)/J_m: W′ = μ/(2A),
+            // W″ = W′/(J_m A), W‴ = 2 W″/(J_m A).
             let argument = 1.0 - (x - 3.0) / jm;
             (argument > 0.0).then(|| {
-                let w = -0.5 * mu_mpa * jm * argument.ln();
                 let dw = 0.5 * mu_mpa / argument;
-                (w, dw, dw / (jm * argument))
+                let d2w = dw / (jm * argument);
+                [
+                    -0.5 * mu_mpa * jm * argument.ln(),
+                    dw,
+                    d2w,
+                    2.0 * d2w / (jm * argument),
+                ]
             })
         }
         Law::ArrudaBoyce { mu_mpa, lambda_m } => {
-            let (mut w, mut dw, mut d2w) = (0.0, 0.0, 0.0);
+            // W = Σᵢ cᵢ (xⁱ − 3ⁱ), cᵢ = μ αᵢ / λ_m^(2i−2), i = 1..5.
+            let mut w = [0.0; 4];
             for (k, alpha) in ARRUDA_BOYCE.iter().enumerate() {
                 let i = k as i32 + 1;
-                let scale = mu_mpa * alpha / lambda_m.powi(2 * i - 2);
+                let c = mu_mpa * alpha / lambda_m.powi(2 * i - 2);
                 let fi = i as f64;
-                w += scale * (x.powi(i) - 3f64.powi(i));
-                dw += scale * fi * x.powi(i - 1);
-                d2w += scale * fi * (fi - 1.0) * x.powi(i - 2);
+                w[0] += c * (x.powi(i) - 3f64.powi(i));
+                w[1] += c * fi * x.powi(i - 1);
+                // The factors vanish below i = 2 and 3: skip the negative powers.
+                if i >= 2 {
+                    w[2] += c * fi * (fi - 1.0) * x.powi(i - 2);
+                }
+                if i >= 3 {
+                    w[3] += c * fi * (fi - 1.0) * (fi - 2.0) * x.powi(i - 3);
+                }
             }
-            Some((w, dw, d2w))
+            Some(w)
         }
         Law::Ogden { .. } => None,
     }

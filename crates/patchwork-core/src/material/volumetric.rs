@@ -79,18 +79,30 @@ impl Volumetric {
         }
     }
 
-    /// U, dU/dy, d²U/dy² at y = ln J, given J (d/dy = J d/dJ).
-    pub(super) fn along_ln_j(&self, j: f64) -> (f64, f64, f64) {
-        let d = self.d;
+    /// U and its first three derivatives in y = ln J, given y and J = eʸ
+    /// (d/dy = J d/dJ):
+    ///
+    /// - logarithmic, U = ((J² − 1)/2 − y)/D: U′ = (J² − 1)/D, U″ = 2J²/D,
+    ///   U‴ = 4J²/D;
+    /// - polynomial, U = (J − 1)²/D: U′ = 2(J² − J)/D, U″ = (4J² − 2J)/D,
+    ///   U‴ = (8J² − 2J)/D.
+    pub(super) fn along_ln_j(&self, y: f64, j: f64) -> [f64; 4] {
+        let (d, j2) = (self.d, j * j);
         if self.logarithmic {
-            (
-                ((j * j - 1.0) * 0.5 - j.ln()) / d,
-                (j * j - 1.0) / d,
-                2.0 * j * j / d,
-            )
+            [
+                ((j2 - 1.0) * 0.5 - y) / d,
+                (j2 - 1.0) / d,
+                2.0 * j2 / d,
+                4.0 * j2 / d,
+            ]
         } else {
             let x = j - 1.0;
-            (x * x / d, 2.0 * x * j / d, (2.0 * j * j + 2.0 * x * j) / d)
+            [
+                x * x / d,
+                2.0 * (j2 - j) / d,
+                (4.0 * j2 - 2.0 * j) / d,
+                (8.0 * j2 - 2.0 * j) / d,
+            ]
         }
     }
 }
