@@ -128,6 +128,15 @@ impl Section {
         }
     }
 
+    /// A copy whose laminate starts each minimisation from the jump its
+    /// previous one found ([`Laminate::remembering`]): for one solve's own use.
+    pub fn remembering(&self) -> Section {
+        Section {
+            layers: self.layers.clone(),
+            laminate: (self.laminate.as_ref()).map(|(l, weight)| (l.remembering(), *weight)),
+        }
+    }
+
     /// A uniform section (one stack of layers, no cut).
     pub fn uniform(layers: Vec<Layer>) -> Section {
         Section {

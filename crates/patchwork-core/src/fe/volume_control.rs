@@ -74,6 +74,11 @@ impl VolumeSolver {
         options: &NewtonOptions,
     ) -> Result<usize, SolveError> {
         let started = Instant::now();
+        // The solve's own sections, as in Newton's solve (Section::remembering).
+        let sections: &[Section] = &sections
+            .iter()
+            .map(Section::remembering)
+            .collect::<Vec<_>>();
         let mut u = model.unknowns(x);
         let mut gradient = vec![0.0; self.n];
         let mut values = Vec::new();

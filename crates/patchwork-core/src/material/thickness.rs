@@ -49,7 +49,7 @@ struct InPlane {
 }
 
 /// A value with its first three derivatives in y.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy)]
 struct Jet([f64; 4]);
 
 impl Jet {

@@ -67,6 +67,12 @@ impl Solver {
         options: &NewtonOptions,
     ) -> Result<SolveStats, SolveError> {
         let scale = load_scale(model, x).max(1e-12);
+        // The solve's own sections: their laminates start each element's
+        // inner minimisation where its previous one ended.
+        let sections: &[Section] = &sections
+            .iter()
+            .map(Section::remembering)
+            .collect::<Vec<_>>();
         let potential = ModelPotential { model, sections };
         let mut factor = self.pattern.factor();
         let (u, stats) = minimise(&potential, &mut factor, model.unknowns(x), scale, options)?;

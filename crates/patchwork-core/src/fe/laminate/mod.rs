@@ -31,15 +31,22 @@
 //! triangle cannot represent anyway.
 //!
 //! Φ is written once, generic over the number type. The inner minimisation is
-//! Newton's method from α = 0 (the Voigt state) on second-order dual numbers
-//! in α alone ([`Hyper`]`<2>`), shifted where ∂²Φ/∂α² is not positive definite
-//! and backtracking on Φ; one evaluation on duals in z = (c₁₁, c₂₂, c₁₂, α₁,
-//! α₂) at the minimum then gives every derivative the tangent needs:
+//! Newton's method on second-order dual numbers in α alone
+//! ([`Hyper`]`<2>`), shifted where ∂²Φ/∂α² is not positive definite and
+//! backtracking on Φ, from α = 0 (the Voigt state) or, in a solve's own copy
+//! of the sections ([`Laminate::remembering`]) while C stays near, from the
+//! jump the element's previous minimisation found ([`memory`]). One
+//! evaluation on duals in z = (c₁₁, c₂₂, c₁₂, α₁, α₂) at the minimum then
+//! gives every derivative the tangent needs:
 //!
 //!   ∂ψ/∂c = ∂Φ/∂c,   ∂²ψ/∂c² = Φ_cc − Φ_cα Φ_αα⁻¹ Φ_αc.
 //!
 //! Tests check ψ's derivatives against finite differences and ψ against a
 //! one-dimensional laminate solved independently.
+
+mod memory;
+
+use memory::Memory;
 
 use crate::material::hyper::Real;
 use crate::material::{Hyper, Material, Response};
@@ -66,6 +73,8 @@ pub struct Laminate {
     /// The inner Newton's tolerance on r = ∂Φ/∂α (N/mm), from the phases'
     /// stiffness: fixed per element, so set once here.
     tolerance: f64,
+    /// The last minimising jump, where this laminate remembers it.
+    memory: Memory,
 }
 
 /// Inner Newton iterations before the last iterate is accepted.
@@ -93,6 +102,17 @@ impl Laminate {
             covered,
             bare,
             tolerance: 1e-12 * share * (1.0 - share) * stiffness,
+            memory: Memory::default(),
+        }
+    }
+
+    /// A copy that starts a minimisation from the jump its previous one
+    /// found while C stays near the C of its last start from α = 0
+    /// ([`memory`]), for one solve's own sections.
+    pub fn remembering(&self) -> Laminate {
+        Laminate {
+            memory: Memory::empty(),
+            ..self.clone()
         }
     }
 
@@ -103,8 +123,8 @@ impl Laminate {
     }
 
     /// ψ(C) with ∂ψ/∂c and ∂²ψ/∂c² at the minimising jump; `None` outside
-    /// the domain (judged at the Voigt state α = 0, whose energy bounds ψ
-    /// from above).
+    /// the domain (judged at the start, the remembered jump or else the
+    /// Voigt state α = 0, whose energy bounds ψ from above).
     pub fn response(&self, c: [f64; 3], materials: &[Material]) -> Option<Response> {
         let (alpha, _) = self.minimise(c, materials)?;
         let z = [c[0], c[1], c[2], alpha[0], alpha[1]];
@@ -132,15 +152,21 @@ impl Laminate {
     }
 
     /// The minimising jump α and Φ there (with its derivatives in α): Newton's
-    /// method on dual numbers in α alone, C held fixed.
+    /// method on dual numbers in α alone, C held fixed, from the remembered
+    /// jump where C is near and that jump is inside the domain, else from
+    /// α = 0.
     fn minimise(&self, c: [f64; 3], materials: &[Material]) -> Option<([f64; 2], Hyper<2>)> {
         let at = |alpha: [f64; 2]| {
             let c = c.map(Hyper::<2>::constant);
             let alpha = [0, 1].map(|k| Hyper::<2>::variable(alpha[k], k));
             self.potential(c, alpha, materials)
         };
-        let mut alpha = [0.0; 2];
-        let mut phi = at(alpha)?;
+        let remembered = (self.memory.start_for(c)).and_then(|a| Some((a, at(a)?)));
+        let cold = remembered.is_none();
+        let (mut alpha, mut phi) = match remembered {
+            Some(start) => start,
+            None => ([0.0; 2], at([0.0; 2])?),
+        };
         for _ in 0..MAX_ITERATIONS {
             let r = phi.gradient;
             let residual = r[0].hypot(r[1]);
@@ -177,6 +203,7 @@ impl Laminate {
             alpha = trial;
             phi = p;
         }
+        self.memory.keep(c, alpha, cold);
         Some((alpha, phi))
     }
 
