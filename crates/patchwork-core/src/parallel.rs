@@ -1,5 +1,6 @@
 //! A generation of CMA-ES candidates, or the columns of a finite-difference
-//! Jacobian, evaluated across a few scoped threads.
+//! Jacobian, evaluated across a few scoped threads, each taking the next
+//! item as it finishes one.
 //!
 //! Parallel loops do not nest: work already on one of [`map_in_threads`]'s
 //! threads runs any inner loop (a solve's assembly) on that thread alone,
@@ -7,6 +8,7 @@
 
 use std::cell::Cell;
 use std::ops::Range;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 thread_local! {
     /// Whether this thread is one of a parallel loop's.
@@ -63,21 +65,42 @@ pub(crate) fn run_marked<J: Send, T: Send>(jobs: Vec<J>, work: &(dyn Fn(J) -> T 
     })
 }
 
-/// `f` of every item, in order, the items split into up to `threads`
-/// contiguous chunks, one scoped thread each.
+/// `f` of every item, in order, on up to `threads` scoped threads. Each
+/// thread takes the next item left as it finishes one, so items of unequal
+/// cost (solves of 3 and of 30 Newton iterations in one CMA-ES generation)
+/// keep every thread busy to the end, where contiguous chunks left one
+/// thread idle while the other finished its costlier share. Where `f` is a
+/// function of its item alone — every caller's, but the search's optional
+/// warm starts (`Tuning::warm_starts`, from the best design any thread has
+/// found so far) — which thread runs an item, and when, changes the wall
+/// time, never the results.
 pub(crate) fn map_in_threads<U: Sync, T: Send>(
     items: &[U],
     threads: usize,
     f: &(dyn Fn(&U) -> T + Sync),
 ) -> Vec<T> {
-    if threads.clamp(1, items.len().max(1)) == 1 {
+    let threads = threads.clamp(1, items.len().max(1));
+    if threads == 1 {
         return items.iter().map(f).collect();
     }
-    let chunks: Vec<&[U]> = (ranges(items.len(), threads).into_iter())
-        .map(|range| &items[range])
-        .collect();
-    let mapped = run_marked(chunks, &|chunk| chunk.iter().map(f).collect::<Vec<T>>());
-    mapped.into_iter().flatten().collect()
+    let next = AtomicUsize::new(0);
+    let taken = run_marked(vec![(); threads], &|()| {
+        let mut mapped = Vec::new();
+        loop {
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            let Some(item) = items.get(k) else {
+                return mapped;
+            };
+            mapped.push((k, f(item)));
+        }
+    });
+    let mut results: Vec<Option<T>> = items.iter().map(|_| None).collect();
+    for (k, result) in taken.into_iter().flatten() {
+        results[k] = Some(result);
+    }
+    (results.into_iter())
+        .map(|r| r.expect("every item is taken by one thread"))
+        .collect()
 }
 
 #[cfg(test)]
@@ -91,6 +114,30 @@ mod tests {
             let squares = map_in_threads(&items, threads, &|i| i * i);
             assert_eq!(squares, items.iter().map(|i| i * i).collect::<Vec<_>>());
         }
+    }
+
+    /// The first item waits for all the others to be done: on two threads
+    /// the second thread takes them all while the first is busy (contiguous
+    /// chunks would have left items 1–5 behind the first, on its thread).
+    #[test]
+    fn an_idle_thread_takes_the_items_left() {
+        let items: Vec<usize> = (0..11).collect();
+        let done = AtomicUsize::new(0);
+        let waited = map_in_threads(&items, 2, &|&i| {
+            if i > 0 {
+                done.fetch_add(1, Ordering::SeqCst);
+                return true;
+            }
+            let started = std::time::Instant::now();
+            while done.load(Ordering::SeqCst) < items.len() - 1 {
+                if started.elapsed() > std::time::Duration::from_secs(20) {
+                    return false;
+                }
+                std::thread::yield_now();
+            }
+            true
+        });
+        assert!(waited.iter().all(|&w| w), "{waited:?}");
     }
 
     #[test]

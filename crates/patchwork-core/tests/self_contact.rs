@@ -66,9 +66,12 @@ fn a_curl_past_a_full_turn_passes_through_itself_and_a_helix_does_not() {
 #[test]
 fn a_design_kept_clear_of_itself_opens_a_helix_tighter_than_the_tube() {
     let target = Preset::helix(25.0, 10.0, 1.5).curve(None).unwrap();
+    // A budget of 120 solves: at 80 the budget, which bounds the whole run,
+    // stops the refine short on some search paths (measured 1.8–2.0 %
+    // against 0.35 % once it ends; 0.35–0.38 % at 120 and 200).
     let settings = UserSettings {
         fidelity: Fidelity::Draft,
-        budget: Some(80),
+        budget: Some(120),
         ..UserSettings::default()
     };
     let overrides = TuningOverrides {
