@@ -5,9 +5,10 @@
 //! From α = 0 the inner Newton needs 7–9 evaluations of Φ (the strain jump
 //! across a patch outline is of order one, and Φ stiffens along the way);
 //! from a nearby jump, 1.5 on average in a design run (docs/studies.md,
-//! "Cut elements: where the inner Newton starts"). But Φ(C, ·) can have more than one local minimum
-//! (a bare sliver beside a stiff patch has a second, bulged state at higher
-//! Φ), and ψ is the one the Newton path from α = 0 reaches. A jump followed
+//! "Cut elements: where the inner Newton starts"). But Φ(C, ·) can have
+//! more than one local minimum (a bare sliver beside a stiff patch has a
+//! second, bulged state at higher Φ), and ψ is the one the Newton path from
+//! α = 0 reaches. A jump followed
 //! through large changes of C can end on another. So a start from memory is
 //! taken only while C lies within [`NEAR`] of the C at the last start from
 //! α = 0, and the jump it reaches is that minimum's continuation: the same
