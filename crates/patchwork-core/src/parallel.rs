@@ -95,13 +95,10 @@ pub(crate) fn map_in_threads<U: Sync, T: Send>(
             mapped.push((k, f(item)));
         }
     });
-    let mut results: Vec<Option<T>> = items.iter().map(|_| None).collect();
-    for (k, result) in taken.into_iter().flatten() {
-        results[k] = Some(result);
-    }
-    (results.into_iter())
-        .map(|r| r.expect("every item is taken by one thread"))
-        .collect()
+    // Each thread's results are in its items' order; merged by index.
+    let mut results: Vec<(usize, T)> = taken.into_iter().flatten().collect();
+    results.sort_unstable_by_key(|&(k, _)| k);
+    results.into_iter().map(|(_, result)| result).collect()
 }
 
 #[cfg(test)]
