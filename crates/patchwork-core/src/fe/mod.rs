@@ -25,6 +25,7 @@ pub mod model;
 pub mod newton;
 pub mod overlap;
 pub mod pressure;
+pub mod ring_step;
 pub mod section;
 pub mod sensitivity;
 mod simulate;

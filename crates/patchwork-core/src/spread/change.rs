@@ -36,7 +36,12 @@ pub struct Nominal<'a> {
 /// four draft designs (hook, S, arc r80, grasp; graded 1 mm, one thread):
 /// the spread's RMS within 0.06 % of the 1e-9 solves' and every
 /// contributor above 5 % of the largest within 0.8 %, in 0.75–0.83 of the
-/// time; at 1e-4 a contributor moved 12 %.
+/// time; at 1e-4 a contributor moved 12 %. On eight (conical spiral,
+/// spring, hook, S, grasp, helix, Hilbert, trefoil): the RMS within
+/// 0.16 %; every contributor above 5 % of the largest within 0.9 % on six,
+/// but up to 5.4 % off on the Hilbert curve and 2.5 % on the trefoil,
+/// whose six largest are within 0.2 % (docs/studies.md, "Newton steps
+/// ring by ring").
 pub const SOURCE_TOLERANCE: f64 = 1e-5;
 
 impl Nominal<'_> {

@@ -24,7 +24,7 @@ pub fn line_search(
 ) -> Option<Vec<f64>> {
     let mut t = first;
     while t > 1e-10 {
-        let trial: Vec<f64> = u.iter().zip(step).map(|(a, s)| a + t * s).collect();
+        let trial = potential.advanced(u, step, t);
         if sufficient_decrease(energy, slope, t, potential.energy(&trial)) {
             return Some(trial);
         }

@@ -40,6 +40,14 @@ pub fn minimise(
     newton.run(u, here)
 }
 
+/// The largest |bᵢ − aᵢ|.
+fn largest_move(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (y - x).abs())
+        .fold(0.0, f64::max)
+}
+
 /// A solve's state between iterations.
 struct Newton<'a, 'f, P> {
     potential: &'a P,
@@ -67,13 +75,15 @@ impl<P: Potential> Newton<'_, '_, P> {
     ) -> Result<(Vec<f64>, SolveStats), SolveError> {
         let options = self.options;
         let mut residual = f64::INFINITY;
+        // The largest move of an unknown in the last iteration (none yet).
+        let mut last_move = 0.0;
         for iteration in 0..=hard_limit(options.max_iterations) {
             residual = norm(&here.gradient) / self.scale;
             if !residual.is_finite() {
                 return Err(SolveError::InadmissibleStart);
             }
             self.residuals.push(residual);
-            if residual <= options.tolerance {
+            if residual <= options.tolerance && last_move <= options.step_tolerance {
                 let stable = self.factored_with == Some(0.0) || self.stable(&mut here);
                 return Ok((u, self.converged(iteration, residual, stable)));
             }
@@ -111,7 +121,9 @@ impl<P: Potential> Newton<'_, '_, P> {
                     (next, None)
                 }
             };
-            (u, here) = self.guard(&u, &here, next, used_shift, residual)?;
+            let (moved, linearised) = self.guard(&u, &here, next, used_shift, residual)?;
+            last_move = largest_move(&u, &moved);
+            (u, here) = (moved, linearised);
         }
         Err(SolveError::NotConverged {
             iterations: self.residuals.len().saturating_sub(1),
@@ -168,7 +180,7 @@ impl<P: Potential> Newton<'_, '_, P> {
         step: &[f64],
         (energy, slope): (f64, f64),
     ) -> Option<(Vec<f64>, Linearisation)> {
-        let end: Vec<f64> = u.iter().zip(step).map(|(a, s)| a + s).collect();
+        let end = self.potential.advanced(u, step, 1.0);
         let linearised = timed(&mut self.stats.assembly_time, || {
             self.potential.linearise(&end)
         })?;

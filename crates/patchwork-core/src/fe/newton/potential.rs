@@ -3,7 +3,10 @@
 //! pattern whose last `n` slots are the diagonal (where a shift goes).
 
 use super::super::model::Model;
+use super::super::ring_step::stepped;
 use super::super::section::Section;
+use super::options::Steps;
+use crate::curve::Point;
 
 /// A smooth potential Π(u) over n unknowns.
 pub trait Potential {
@@ -17,6 +20,12 @@ pub trait Potential {
     /// Π at `u` alone (non-finite outside the domain): what the line search
     /// tries.
     fn energy(&self, u: &[f64]) -> f64;
+
+    /// Where the fraction `t` of `step` from `u` ends: u + t·step unless
+    /// the potential knows a better path with the same first order.
+    fn advanced(&self, u: &[f64], step: &[f64], t: f64) -> Vec<f64> {
+        u.iter().zip(step).map(|(a, s)| a + t * s).collect()
+    }
 }
 
 /// Π, ∇Π and the triplets of K (shift slots last) at one state.
@@ -61,6 +70,7 @@ fn stiffness_scale(values: &[f64]) -> f64 {
 pub struct ModelPotential<'a> {
     pub model: &'a Model,
     pub sections: &'a [Section],
+    pub steps: Steps,
 }
 
 impl Potential for ModelPotential<'_> {
@@ -81,6 +91,23 @@ impl Potential for ModelPotential<'_> {
     fn energy(&self, u: &[f64]) -> f64 {
         self.model
             .potential(&self.model.positions(u), self.sections)
+    }
+
+    /// With [`Steps::Rings`], the step ring by ring, its rotations applied
+    /// exactly ([`ring_step`](super::super::ring_step)).
+    fn advanced(&self, u: &[f64], step: &[f64], t: f64) -> Vec<f64> {
+        if self.steps == Steps::Linear {
+            return u.iter().zip(step).map(|(a, s)| a + t * s).collect();
+        }
+        let x = self.model.positions(u);
+        let mut dx = self.model.positions(step);
+        for (d, fixed) in dx.iter_mut().zip(&self.model.mesh.fixed) {
+            if *fixed {
+                *d = Point::zeros();
+            }
+        }
+        let moved = stepped(&self.model.mesh, &x, &dx, t);
+        self.model.unknowns(&moved)
     }
 }
 

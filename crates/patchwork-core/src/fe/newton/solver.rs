@@ -73,7 +73,11 @@ impl Solver {
             .iter()
             .map(Section::remembering)
             .collect::<Vec<_>>();
-        let potential = ModelPotential { model, sections };
+        let potential = ModelPotential {
+            model,
+            sections,
+            steps: options.steps,
+        };
         let mut factor = self.pattern.factor();
         let (u, stats) = minimise(&potential, &mut factor, model.unknowns(x), scale, options)?;
         *x = model.positions(&u);

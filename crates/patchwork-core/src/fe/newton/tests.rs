@@ -187,3 +187,30 @@ fn a_start_outside_the_domain_or_at_a_non_finite_gradient_is_refused() {
         SolveError::InadmissibleStart
     );
 }
+
+#[test]
+fn a_bound_on_the_last_move_holds_a_loose_solve_until_its_steps_are_small() {
+    // The double well from u₀ = 2: Newton's iterates 1.4545, 1.1511,
+    // 1.0253, 1.00093, 1.0000012 (|∇Π| ≈ 1e-5). Residual 1e-3 alone stops
+    // there, 1.2e-6 from the minimum, after a move of 9.3e-4; a bound of
+    // 1e-6 on the last move goes on until a step of about 1e-12 (two more).
+    let well = Analytic::double_well();
+    let pattern = well.pattern();
+    let solve = |step_tolerance: f64| {
+        let options = NewtonOptions {
+            tolerance: 1e-3,
+            step_tolerance,
+            ..NewtonOptions::default()
+        };
+        minimise(&well, &mut pattern.factor(), vec![2.0, 0.0], 1.0, &options).unwrap()
+    };
+    let (loose, loose_stats) = solve(f64::INFINITY);
+    let (bounded, bounded_stats) = solve(1e-6);
+    assert!(
+        ((loose[0] - 1.0).abs() - 1.235e-6).abs() < 1e-9,
+        "{loose:?}"
+    );
+    assert!((bounded[0] - 1.0).abs() < 1e-12, "{bounded:?}");
+    assert_eq!(loose_stats.iterations, 5);
+    assert_eq!(bounded_stats.iterations, 7);
+}
