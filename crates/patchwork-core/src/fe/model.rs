@@ -151,6 +151,13 @@ impl Model {
             .collect()
     }
 
+    /// Each node's move under a change `du` of the DOFs (zero where clamped).
+    pub fn moves(&self, du: &[f64]) -> Vec<Point> {
+        (self.dof.iter())
+            .map(|d| d.map_or(Point::zeros(), |i| Point::new(du[i], du[i + 1], du[i + 2])))
+            .collect()
+    }
+
     /// DOF vector from node positions.
     pub fn unknowns(&self, x: &[Point]) -> Vec<f64> {
         let mut u = vec![0.0; self.dof_count];

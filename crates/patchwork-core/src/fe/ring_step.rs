@@ -41,19 +41,21 @@ use crate::curve::Point;
 /// linearly.
 pub fn stepped(mesh: &TubeMesh, x: &[Point], dx: &[Point], t: f64) -> Vec<Point> {
     let around = mesh.around;
-    let rings = mesh.ring_y.len();
     let ring = |k: usize| k * around..(k + 1) * around;
-    let centroid = |p: &[Point], k: usize| mean(&p[ring(k)]);
+    // Each ring's centroid and its move, once.
+    let centres: Vec<(Point, Point)> = (0..mesh.ring_y.len())
+        .map(|k| (mean(&x[ring(k)]), t * mean(&dx[ring(k)])))
+        .collect();
     let mut out = Vec::with_capacity(x.len());
-    let mut chained = centroid(x, 0) + t * centroid(dx, 0);
-    let mut rotations = Vec::with_capacity(rings);
-    for k in 0..rings {
-        let (c, dc) = (centroid(x, k), t * centroid(dx, k));
+    let (c0, dc0) = centres[0];
+    let mut chained = c0 + dc0;
+    let mut rotation = None;
+    for (k, &(c, dc)) in centres.iter().enumerate() {
         if k > 0 {
-            let previous = (centroid(x, k - 1), t * centroid(dx, k - 1));
-            chained += rotated_segment(c - previous.0, dc - previous.1);
+            let (before, moved_before) = centres[k - 1];
+            chained += rotated_segment(c - before, dc - moved_before);
         }
-        let rotation = fitted_rotation(&x[ring(k)], &dx[ring(k)], (c, dc), t);
+        rotation = fitted_rotation(&x[ring(k)], &dx[ring(k)], (c, dc), t);
         for node in ring(k) {
             out.push(moved_node(
                 x[node],
@@ -62,18 +64,15 @@ pub fn stepped(mesh: &TubeMesh, x: &[Point], dx: &[Point], t: f64) -> Vec<Point>
                 (chained, &rotation),
             ));
         }
-        rotations.push(rotation);
     }
     // The cap's rings and pole move with the tube's last ring.
-    let last = rings - 1;
-    let (c, dc) = (centroid(x, last), t * centroid(dx, last));
-    let rotation = &rotations[last];
-    for node in rings * around..x.len() {
+    let last = *centres.last().expect("a tube has rings");
+    for node in centres.len() * around..x.len() {
         out.push(moved_node(
             x[node],
             t * dx[node],
-            (c, dc),
-            (chained, rotation),
+            last,
+            (chained, &rotation),
         ));
     }
     out
@@ -81,13 +80,13 @@ pub fn stepped(mesh: &TubeMesh, x: &[Point], dx: &[Point], t: f64) -> Vec<Point>
 
 /// A ring's rotation: exp(ω) of the best-fitting ω and ω itself; none where
 /// the fit is singular.
-type Fitted = Option<(Rotation3<f64>, nalgebra::Vector3<f64>)>;
+type Fitted = Option<(Rotation3<f64>, Point)>;
 
 /// ωₖ of the nodes `x` moved by `t`·`dx` about their centroid `c` moved by
 /// `dc`.
 fn fitted_rotation(x: &[Point], dx: &[Point], (c, dc): (Point, Point), t: f64) -> Fitted {
     let mut a = Matrix3::zeros();
-    let mut b = nalgebra::Vector3::zeros();
+    let mut b = Point::zeros();
     for (p, q) in x.iter().zip(dx) {
         let d = p - c;
         let dd = t * q - dc;

@@ -75,7 +75,8 @@ impl<P: Potential> Newton<'_, '_, P> {
     ) -> Result<(Vec<f64>, SolveStats), SolveError> {
         let options = self.options;
         let mut residual = f64::INFINITY;
-        // The largest move of an unknown in the last iteration (none yet).
+        // The largest move of an unknown in the last iteration (none yet;
+        // only measured where `step_tolerance` bounds it).
         let mut last_move = 0.0;
         for iteration in 0..=hard_limit(options.max_iterations) {
             residual = norm(&here.gradient) / self.scale;
@@ -122,7 +123,9 @@ impl<P: Potential> Newton<'_, '_, P> {
                 }
             };
             let (moved, linearised) = self.guard(&u, &here, next, used_shift, residual)?;
-            last_move = largest_move(&u, &moved);
+            if options.step_tolerance.is_finite() {
+                last_move = largest_move(&u, &moved);
+            }
             (u, here) = (moved, linearised);
         }
         Err(SolveError::NotConverged {

@@ -6,7 +6,6 @@ use super::super::model::Model;
 use super::super::ring_step::stepped;
 use super::super::section::Section;
 use super::options::Steps;
-use crate::curve::Point;
 
 /// A smooth potential Π(u) over n unknowns.
 pub trait Potential {
@@ -24,8 +23,13 @@ pub trait Potential {
     /// Where the fraction `t` of `step` from `u` ends: u + t·step unless
     /// the potential knows a better path with the same first order.
     fn advanced(&self, u: &[f64], step: &[f64], t: f64) -> Vec<f64> {
-        u.iter().zip(step).map(|(a, s)| a + t * s).collect()
+        linear_advance(u, step, t)
     }
+}
+
+/// u + t·step.
+fn linear_advance(u: &[f64], step: &[f64], t: f64) -> Vec<f64> {
+    u.iter().zip(step).map(|(a, s)| a + t * s).collect()
 }
 
 /// Π, ∇Π and the triplets of K (shift slots last) at one state.
@@ -97,15 +101,9 @@ impl Potential for ModelPotential<'_> {
     /// exactly ([`ring_step`](super::super::ring_step)).
     fn advanced(&self, u: &[f64], step: &[f64], t: f64) -> Vec<f64> {
         if self.steps == Steps::Linear {
-            return u.iter().zip(step).map(|(a, s)| a + t * s).collect();
+            return linear_advance(u, step, t);
         }
-        let x = self.model.positions(u);
-        let mut dx = self.model.positions(step);
-        for (d, fixed) in dx.iter_mut().zip(&self.model.mesh.fixed) {
-            if *fixed {
-                *d = Point::zeros();
-            }
-        }
+        let (x, dx) = (self.model.positions(u), self.model.moves(step));
         let moved = stepped(&self.model.mesh, &x, &dx, t);
         self.model.unknowns(&moved)
     }
