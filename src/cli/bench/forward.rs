@@ -2,13 +2,14 @@
 //! reference tube against membrane theory (hoop and axial stretch in the
 //! middle of the tube) and the wall time of one cold solve, bare and with
 //! the six KSA patches of the Hilbert curve (the reference scene, 20 kPa,
-//! one thread; median of three).
+//! one thread; median of three); and one cold solve of a long balloon, 1 m
+//! uninflated with 30 patches, on the default mesh.
 
 use std::time::Instant;
 
 use anyhow::{Context, Result};
 use patchwork_core::curve::ReferenceCurve;
-use patchwork_core::design::Design;
+use patchwork_core::design::{Design, Patch};
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
 use patchwork_core::ksa::{KsaParams, ksa};
@@ -26,6 +27,43 @@ pub struct ForwardRow {
     pub hilbert_ms: f64,
 }
 
+/// The forward measurements: per mesh, and the long balloon.
+pub struct Forward {
+    pub meshes: Vec<ForwardRow>,
+    pub long: LongRow,
+}
+
+/// One cold solve of [`long_balloon`] on the default mesh.
+pub struct LongRow {
+    pub inflated_mm: f64,
+    pub iterations: usize,
+    pub continuation_steps: usize,
+    pub ms: f64,
+}
+
+/// A 1000 mm balloon (the reference tube lengthened) with 30 patches of
+/// 15 × 2 mm every 32 mm, their X and Θ spread over the tube by golden-ratio
+/// sequences, rounded to 0.001 mm and degree: about 3.1 m long inflated,
+/// the design that `docs/studies.md` writes as JSON with a one-line script.
+pub fn long_balloon() -> Design {
+    let thousandths = |v: f64| (v * 1e3).round() / 1e3;
+    let patches = (0..30)
+        .map(|i| {
+            let i = i as f64;
+            Patch {
+                x_mm: thousandths(20.0 * (i * 0.618034).fract()),
+                y_mm: 16.0 + 32.0 * i,
+                h_mm: 15.0,
+                w_mm: 2.0,
+                theta_deg: thousandths(60.0 * (i * 0.381966 + 0.1).fract() - 30.0),
+            }
+        })
+        .collect();
+    let mut design = Design::reference(patches);
+    design.balloon.length_mm = 1000.0;
+    design
+}
+
 /// The meshes a user meets: the default of `simulate` and of every
 /// preset's verification, and the uniform meshes `--mesh-mm` gives.
 fn meshes() -> [(&'static str, MeshSpec); 4] {
@@ -40,7 +78,22 @@ fn meshes() -> [(&'static str, MeshSpec); 4] {
     ]
 }
 
-pub fn measure() -> Result<Vec<ForwardRow>> {
+pub fn measure() -> Result<Forward> {
+    let meshes = per_mesh()?;
+    let started = Instant::now();
+    let long = simulate(&long_balloon(), &SimulateOptions::default())
+        .context("the 1 m balloon with 30 patches")?;
+    eprintln!("forward solve, 1 m balloon: done");
+    let long = LongRow {
+        inflated_mm: long.inflated_length_mm,
+        iterations: long.stats.iterations,
+        continuation_steps: long.continuation_steps,
+        ms: started.elapsed().as_secs_f64() * 1e3,
+    };
+    Ok(Forward { meshes, long })
+}
+
+fn per_mesh() -> Result<Vec<ForwardRow>> {
     let bare = Design::reference(vec![]);
     let seed = ksa(&ReferenceCurve::Hilbert.curve(), &KsaParams::default())?;
     let hilbert = Design::reference(seed.patches);
@@ -82,8 +135,24 @@ fn timed(design: &Design, options: &SimulateOptions) -> Result<(Simulation, f64)
     Ok((simulation, times[REPEATS / 2]))
 }
 
+/// The headline's row.
+pub fn headline(forward: &Forward) -> String {
+    let Some(default) = forward.meshes.first() else {
+        return String::new();
+    };
+    format!(
+        "| one forward solve, default mesh | {:.0} ms bare, {:.0} ms with six patches, {:.1} s for a 1 m balloon with 30 patches; hoop stretch {:+.2} % and axial {:+.2} % against membrane theory |\n",
+        default.bare_ms,
+        default.hilbert_ms,
+        forward.long.ms / 1e3,
+        default.hoop_error_percent,
+        default.axial_error_percent
+    )
+}
+
 /// The report's section: a table and how to read it.
-pub fn section(rows: &[ForwardRow]) -> String {
+pub fn section(forward: &Forward) -> String {
+    let rows = &forward.meshes;
     let mut out = String::from(
         "| mesh | nodes (bare tube) | hoop stretch vs theory | axial stretch vs theory | bare tube | Hilbert scene, 6 patches |\n\
          |---|---|---|---|---|---|\n",
@@ -100,6 +169,17 @@ pub fn section(rows: &[ForwardRow]) -> String {
          solve (median of {REPEATS}, one thread). The mesh's polygonal section sets \
          the hoop error of a uniform mesh; the default mesh is fine where the shape \
          is decided (under patches) and coarse between.\n"
+    ));
+    let long = &forward.long;
+    out.push_str(&format!(
+        "\nA long balloon, 1 m uninflated with 30 patches (`long_balloon` in \
+         src/cli/bench/forward.rs; docs/studies.md writes it as design JSON), \
+         solved cold on the default mesh, one thread, once: {:.1} s, {} Newton \
+         iterations, {} continuation steps, {:.0} mm long inflated.\n",
+        long.ms / 1e3,
+        long.iterations,
+        long.continuation_steps,
+        long.inflated_mm
     ));
     out
 }

@@ -13,7 +13,7 @@ use anyhow::{Context, Result};
 
 use super::args::BenchArgs;
 use super::cases::Suite;
-use super::forward::{self, ForwardRow};
+use super::forward::{self, Forward};
 use super::measure::measure_suite;
 use super::render::{plot, stage_shares, table};
 use super::row::{Row, median};
@@ -97,7 +97,7 @@ fn summary(rows: &[Row], setting: &str) -> Summary {
 fn headline(
     (curves, trips, sure): (&[Row], &[Row], &[SureRow]),
     goals: &UsersGoals,
-    forward: &[ForwardRow],
+    forward: &Forward,
     service: Option<&str>,
     out: &Path,
 ) -> String {
@@ -123,15 +123,7 @@ fn headline(
         goals.curves, goals.median, goals.worst, goals.met()
     ));
     s.push_str(&sureness::headline(curves, sure));
-    if let Some(default) = forward.first() {
-        s.push_str(&format!(
-            "| one forward solve, default mesh | {:.0} ms bare, {:.0} ms with six patches; hoop stretch {:+.2} % and axial {:+.2} % against membrane theory |\n",
-            default.bare_ms,
-            default.hilbert_ms,
-            default.hoop_error_percent,
-            default.axial_error_percent
-        ));
-    }
+    s.push_str(&forward::headline(forward));
     s.push_str(&match service {
         Some(text) => format!(
             "| HTTP service while designs compute | {} |\n",
@@ -340,8 +332,8 @@ fn users_section(rows: &[Row], goals: &UsersGoals, out: &Path) -> String {
     s
 }
 
-fn forward_section(rows: &[ForwardRow]) -> String {
-    format!("## Forward solve per mesh\n\n{}", forward::section(rows))
+fn forward_section(forward: &Forward) -> String {
+    format!("## Forward solve per mesh\n\n{}", forward::section(forward))
 }
 
 fn service_section(service: Option<&str>, out: &Path) -> String {

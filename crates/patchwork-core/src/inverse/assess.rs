@@ -8,7 +8,7 @@ use super::tuning::Tuning;
 use crate::curve::{Curve, dtw, shape_error};
 use crate::design::Design;
 use crate::fe::mesh::MeshSpec;
-use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate};
+use crate::fe::{SimulateError, Simulation, simulate};
 
 /// Metrics of `design` against `target` on a model of the caller's choice —
 /// to compare designs found at different fidelities on one common model
@@ -19,12 +19,7 @@ pub fn assess(
     mesh: MeshSpec,
     tuning: &Tuning,
 ) -> Result<Metrics, SimulateError> {
-    let options = SimulateOptions {
-        mesh,
-        rings: tuning.rings,
-        ..SimulateOptions::default()
-    };
-    let simulation = simulate(design, &options)?;
+    let simulation = simulate(design, &tuning.model(mesh))?;
     let profiles = TargetProfiles::new(target, tuning.rings, &tuning.objective);
     Ok(verified(&profiles, &simulation, &tuning.objective).0)
 }
