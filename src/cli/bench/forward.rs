@@ -81,8 +81,11 @@ fn meshes() -> [(&'static str, MeshSpec); 4] {
 pub fn measure() -> Result<Forward> {
     let meshes = per_mesh()?;
     let started = Instant::now();
-    let long = simulate(&long_balloon(), &SimulateOptions::default())
-        .context("the 1 m balloon with 30 patches")?;
+    let options = SimulateOptions {
+        mesh: MeshSpec::default_simulation(),
+        ..SimulateOptions::default()
+    };
+    let long = simulate(&long_balloon(), &options).context("the 1 m balloon with 30 patches")?;
     eprintln!("forward solve, 1 m balloon: done");
     let long = LongRow {
         inflated_mm: long.inflated_length_mm,
