@@ -18,13 +18,7 @@
 //! step whose gain ratio falls below `secant_ratio` (the linear model held
 //! for less than that share of the fall it predicted) calls for a fresh one
 //! too: the secant has drifted, and a fresh Jacobian costs one evaluation.
-//! A fresh Jacobian starts from a damping no higher than the last accepted
-//! step's: the rejections since may be the secant's fault, but how far the
-//! linear model held is the problem's. Starting from the first damping
-//! instead, the refine's first step from a fresh Jacobian was rejected
-//! after most refreshes on the Hilbert curve (`draft`, seed 1: a step of 1–2
-//! across the unit cube where the accepted ones moved 0.3–0.5), which cost
-//! about one solve in six of its budget.
+//! A fresh Jacobian starts from a damping no higher than the first.
 //!
 //! Stops: when the budget cannot pay the next evaluation (or the next
 //! Jacobian and a step after it), when the problem is out of time (before
@@ -147,7 +141,6 @@ pub fn minimise<P: Residuals>(
         refresh: jacobian.is_none(),
         jacobian,
         damping: settings.first_damping,
-        accepted_damping: settings.first_damping,
         counts: Counts::default(),
         on_progress,
     };
@@ -181,9 +174,6 @@ struct Minimiser<'r, P: Residuals> {
     /// A fresh Jacobian is due before the next step.
     refresh: bool,
     damping: f64,
-    /// The damping after the last accepted step (the first damping before
-    /// any): where a fresh Jacobian's steps start.
-    accepted_damping: f64,
     counts: Counts,
     on_progress: &'r mut dyn FnMut(usize, usize, &P::State),
 }
@@ -221,9 +211,9 @@ impl<P: Residuals> Minimiser<'_, P> {
             cheap: is_cheap,
         });
         // The secant Jacobian's failures raised the damping; the fresh one
-        // starts from no more than the last accepted step's.
+        // starts from no more than the first.
         self.refresh = false;
-        self.damping = self.damping.min(self.accepted_damping);
+        self.damping = self.damping.min(self.settings.first_damping);
         Ok(true)
     }
 
@@ -290,7 +280,6 @@ impl<P: Residuals> Minimiser<'_, P> {
         }
         self.current = trial;
         self.damping = (self.damping * damping_factor(ratio)).max(1e-9);
-        self.accepted_damping = self.damping;
         self.counts.iterations += 1;
         self.report();
         if gain < self.settings.min_gain || lowered < self.settings.resolution {
