@@ -1,11 +1,13 @@
-//! Reach tables kept on disk between runs of `patchwork`
-//! (`patchwork_core::inverse::reach::memo`): a design's reach stage solves
-//! 21 one-patch balloons of the scene (about two seconds), and every later
-//! design of the same scene, bounds and model reads them back instead.
+//! The tables of a scene kept on disk between runs of `patchwork`
+//! (`patchwork_core::inverse::memo`): a design's reach stage solves 21
+//! one-patch balloons of the scene (about two seconds) and its rod stage
+//! 72 (about five), and every later design of the same scene, bounds and
+//! model reads them back instead.
 //!
 //! The folder is `PATCHWORK_CACHE_DIR`, else `$XDG_CACHE_HOME/patchwork`,
 //! else `~/.cache/patchwork`; `PATCHWORK_CACHE_DIR=` (empty) keeps tables in
-//! memory only. One file per table, `reach-<hash>.json`, holding the table
+//! memory only. One file per table, `reach-<hash>.json` or `rod-<hash>.json`
+//! (the first word of its key), holding the table
 //! and the whole key it was computed for, prefixed with this executable's
 //! identity (its size and modification time): a table is read back only for
 //! the same key from the same build, since another build's model may solve
@@ -14,15 +16,14 @@
 
 use std::path::{Path, PathBuf};
 
-use patchwork_core::inverse::reach::ReachTable;
-use patchwork_core::inverse::reach::memo::{TableStore, keep_tables_in};
+use patchwork_core::inverse::memo::{TableStore, keep_tables_in};
 use serde::{Deserialize, Serialize};
 
 /// What one file holds.
 #[derive(Serialize, Deserialize)]
 struct Stored {
     key: String,
-    table: ReachTable,
+    table: serde_json::Value,
 }
 
 /// Tables in files under one folder, for one build.
@@ -31,7 +32,7 @@ struct DiskStore {
     build: String,
 }
 
-/// Keeps the reach tables of this process's design runs on disk, where
+/// Keeps the tables of this process's design runs on disk, where
 /// there is a folder for them.
 pub fn install() {
     if let Some(folder) = folder() {
@@ -74,26 +75,30 @@ impl DiskStore {
         format!("patchwork {}\n{key}", self.build)
     }
 
-    fn path(&self, full_key: &str) -> PathBuf {
-        self.folder
-            .join(format!("reach-{:016x}.json", fnv1a(full_key)))
+    /// The file of `key` (without the build), named by its first word.
+    fn path(&self, key: &str) -> PathBuf {
+        let kind = key.split_whitespace().next().unwrap_or("table");
+        let kind: String = kind.chars().filter(char::is_ascii_alphanumeric).collect();
+        let hash = fnv1a(&self.full_key(key));
+        self.folder.join(format!("{kind}-{hash:016x}.json"))
     }
 }
 
 impl TableStore for DiskStore {
-    fn load(&self, key: &str) -> Option<ReachTable> {
-        let full = self.full_key(key);
-        let text = std::fs::read_to_string(self.path(&full)).ok()?;
+    fn load(&self, key: &str) -> Option<String> {
+        let text = std::fs::read_to_string(self.path(key)).ok()?;
         let stored: Stored = serde_json::from_str(&text).ok()?;
-        (stored.key == full).then_some(stored.table)
+        (stored.key == self.full_key(key)).then(|| stored.table.to_string())
     }
 
-    fn save(&self, key: &str, table: &ReachTable) {
-        let key = self.full_key(key);
-        let path = self.path(&key);
+    fn save(&self, key: &str, table: &str) {
+        let path = self.path(key);
+        let Ok(table) = serde_json::from_str(table) else {
+            return;
+        };
         let stored = Stored {
-            key,
-            table: table.clone(),
+            key: self.full_key(key),
+            table,
         };
         let Ok(text) = serde_json::to_string(&stored) else {
             return;
@@ -112,19 +117,10 @@ impl TableStore for DiskStore {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use patchwork_core::inverse::reach::PatchResponse;
 
-    fn table(curvature: f64) -> ReachTable {
-        ReachTable {
-            patch_length_mm: 30.0,
-            entries: vec![PatchResponse {
-                width_mm: 1.0,
-                theta_deg: 0.0,
-                curvature_per_mm: curvature,
-                torsion_per_mm: 0.0,
-                peak_curvature_per_mm: curvature,
-            }],
-        }
+    /// A table as JSON, its keys in the order serde_json writes them.
+    fn table(curvature: f64) -> String {
+        format!(r#"{{"entries":[{{"curvature_per_mm":{curvature:?}}}],"patch_length_mm":30.0}}"#)
     }
 
     #[test]
@@ -135,15 +131,23 @@ mod tests {
             build: build.into(),
         };
         let this = store("1 2");
-        assert!(this.load("scene a").is_none());
-        this.save("scene a", &table(0.05));
-        assert_eq!(this.load("scene a"), Some(table(0.05)));
-        assert!(this.load("scene b").is_none());
-        assert!(store("1 3").load("scene a").is_none());
+        assert!(this.load("reach scene a").is_none());
+        this.save("reach scene a", &table(0.05));
+        assert_eq!(this.load("reach scene a"), Some(table(0.05)));
+        assert!(this.load("reach scene b").is_none());
+        assert!(this.load("rod scene a").is_none());
+        assert!(store("1 3").load("reach scene a").is_none());
+        let path = this.path("reach scene a");
+        assert!(
+            path.file_name()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .starts_with("reach-")
+        );
         // A damaged file is a miss, not an error.
-        let path = this.path(&this.full_key("scene a"));
         std::fs::write(&path, "{").unwrap();
-        assert!(this.load("scene a").is_none());
+        assert!(this.load("reach scene a").is_none());
     }
 
     #[test]

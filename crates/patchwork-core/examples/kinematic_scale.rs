@@ -10,8 +10,10 @@
 
 use std::time::Instant;
 
+#[path = "common/seeds.rs"]
+mod seeds;
+
 use patchwork_core::cmaes::SeededRng;
-use patchwork_core::curve::{Curve, Preset, ReferenceCurve};
 use patchwork_core::design::Design;
 use patchwork_core::fe::kinematic::kinematic_state;
 use patchwork_core::fe::mesh::{MeshSpec, TubeMesh};
@@ -19,68 +21,8 @@ use patchwork_core::fe::model::Model;
 use patchwork_core::fe::newton::{NewtonOptions, PatternCache, Solver};
 use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::tube_theory::inflate_tube;
-use patchwork_core::inverse::{DesignSpace, Fidelity, Freedom, VariableBounds};
-use patchwork_core::ksa::{KsaParams, ksa};
-use patchwork_core::material::Compressibility;
-
-/// The uninflated length a curve is seeded on: its length over the
-/// reference balloon's inflated axial stretch, about 3.
-const STRETCH: f64 = 3.0;
-
-fn curves() -> Vec<(String, Curve)> {
-    let mut curves: Vec<(String, Curve)> = [
-        ReferenceCurve::Hilbert,
-        ReferenceCurve::Pancake,
-        ReferenceCurve::Spring,
-    ]
-    .into_iter()
-    .map(|c| (c.name().to_string(), c.curve()))
-    .collect();
-    for name in [
-        "helix", "grasp", "hook", "s_curve", "arc", "spiral", "trefoil",
-    ] {
-        let preset = Preset::from_name(name, serde_json::json!({})).expect("a preset");
-        curves.push((name.to_string(), preset.curve(None).expect("a curve")));
-    }
-    curves
-}
-
-/// The seed design and `count` perturbations of it.
-fn designs(curve: &Curve, count: usize, rng: &mut SeededRng, incompressible: bool) -> Vec<Design> {
-    let l0 = curve.length() / STRETCH;
-    let params = KsaParams {
-        l0_mm: l0,
-        ..KsaParams::default()
-    };
-    let seed = ksa(curve, &params).expect("KSA");
-    let mut design = Design::reference(seed.patches);
-    design.balloon.length_mm = l0;
-    if incompressible {
-        design = design.with_compressibility(Compressibility::Incompressible);
-    }
-    let space = DesignSpace::new(
-        design.patches.clone(),
-        Freedom::default(),
-        &VariableBounds::default(),
-        l0,
-    )
-    .expect("valid bounds");
-    let centre = space.seed_point();
-    (0..=count)
-        .map(|k| {
-            let u: Vec<f64> = match k {
-                0 => centre.clone(),
-                _ => (centre.iter())
-                    .map(|c| (c + 0.2 * rng.normal()).clamp(0.0, 1.0))
-                    .collect(),
-            };
-            Design {
-                patches: space.patches(&u),
-                ..design.clone()
-            }
-        })
-        .collect()
-}
+use patchwork_core::inverse::Fidelity;
+use seeds::{curves, designs, median};
 
 /// Newton iterations and milliseconds of a cold solve from the kinematic
 /// start at `scale`; none if it fails.
@@ -102,14 +44,6 @@ fn solve(
     let mut x = kinematic_state(design, &model.mesh, tube, scale);
     let stats = (solver.solve(&model, &model.sections, &mut x, &NewtonOptions::default())).ok()?;
     Some((stats.iterations, started.elapsed().as_secs_f64() * 1e3))
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    match v.len() {
-        0 => f64::NAN,
-        n => v[n / 2],
-    }
 }
 
 fn main() {

@@ -21,6 +21,7 @@ pub mod least_squares;
 pub mod material;
 pub mod measure;
 mod parallel;
+pub mod rod;
 pub mod spread;
 
 pub use curve::{Curve, CurveError, Point};

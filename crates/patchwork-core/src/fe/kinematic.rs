@@ -71,28 +71,7 @@ pub fn kinematic_state(
     scale: f64,
 ) -> Vec<Point> {
     let r0 = mesh.radius;
-    let c = mesh.circumference();
-    let wall = design.balloon.material.shear_modulus() * design.balloon.wall_mm;
-    let patch = design.patch.material.shear_modulus() * design.patch.thickness_mm;
-    let (mut centre, mut frame) = (Point::zeros(), Rotation3::identity());
-    let mut rings = Vec::with_capacity(mesh.ring_y.len());
-    let mut previous_y = 0.0;
-    for &y in &mesh.ring_y {
-        let (mean, kx, ky) = bending(design, y, c, wall, patch, state.axial);
-        let ds = (y - previous_y) * mean;
-        previous_y = y;
-        let r = state.hoop * r0;
-        // Curvature vector in the ring's material axes, towards lower stretch.
-        let curvature = Point::new(-kx, -ky, 0.0) * (scale / (mean * r));
-        let tangent = frame * Point::z();
-        centre += tangent * ds;
-        let k = frame * curvature;
-        let axis = tangent.cross(&k);
-        if axis.norm() > 1e-12 {
-            frame = Rotation3::from_axis_angle(&Unit::new_normalize(axis), k.norm() * ds) * frame;
-        }
-        rings.push((centre, frame));
-    }
+    let rings = rod_frames(design, &mesh.ring_y, state, scale);
     let tube_nodes = mesh.ring_y.len() * mesh.around;
     let (top_centre, top_frame) = *rings.last().expect("at least two rings");
     mesh.nodes
@@ -115,6 +94,40 @@ pub fn kinematic_state(
             }
         })
         .collect()
+}
+
+/// The kinematic estimate as a rod: the centre and the material frame of
+/// the cross-section at each uninflated height of `heights` (ascending,
+/// from the clamp at 0), integrated from the clamp along the tube.
+pub fn rod_frames(
+    design: &Design,
+    heights: &[f64],
+    state: TubeState,
+    scale: f64,
+) -> Vec<(Point, Rotation3<f64>)> {
+    let c = design.balloon.circumference();
+    let wall = design.balloon.material.shear_modulus() * design.balloon.wall_mm;
+    let patch = design.patch.material.shear_modulus() * design.patch.thickness_mm;
+    let r = state.hoop * design.balloon.radius_mm;
+    let (mut centre, mut frame) = (Point::zeros(), Rotation3::identity());
+    let mut rings = Vec::with_capacity(heights.len());
+    let mut previous_y = 0.0;
+    for &y in heights {
+        let (mean, kx, ky) = bending(design, y, c, wall, patch, state.axial);
+        let ds = (y - previous_y) * mean;
+        previous_y = y;
+        // Curvature vector in the ring's material axes, towards lower stretch.
+        let curvature = Point::new(-kx, -ky, 0.0) * (scale / (mean * r));
+        let tangent = frame * Point::z();
+        centre += tangent * ds;
+        let k = frame * curvature;
+        let axis = tangent.cross(&k);
+        if axis.norm() > 1e-12 {
+            frame = Rotation3::from_axis_angle(&Unit::new_normalize(axis), k.norm() * ds) * frame;
+        }
+        rings.push((centre, frame));
+    }
+    rings
 }
 
 /// Mean axial stretch and the cos/sin Fourier coefficients of λ(φ) at height y.

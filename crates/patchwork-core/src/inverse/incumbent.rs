@@ -10,6 +10,7 @@ use std::sync::{Arc, Mutex};
 use super::caches::Caches;
 use super::deadline::Deadline;
 use super::objective::{ObjectiveOptions, TargetProfiles};
+use super::stages::RodModel;
 use super::variables::DesignSpace;
 use crate::cmaes::{Bounds, RunOptions};
 use crate::design::{Design, Patch};
@@ -54,6 +55,9 @@ pub(super) struct Scorer<'a> {
     /// generation after.
     pub deadline: Deadline,
     pub caches: &'a Caches,
+    /// The rod model that candidates are scored on instead of `model`
+    /// (the search's, when it runs on the rod).
+    pub rod: Option<&'a RodModel>,
 }
 
 /// The best design of a stage so far and its inflated state.
@@ -75,9 +79,19 @@ impl Scorer<'_> {
         )
     }
 
-    /// The candidate at unit-cube point `u`: simulated, scored, and made the
-    /// incumbent if better. Infinite once cancelled (the caller drops that
-    /// generation).
+    /// Objective of `design` on `rod`: its centreline's, the tube of the
+    /// bare radius throughout (the failed-solve penalty if the rod has no
+    /// centreline).
+    pub fn rod_score(&self, rod: &RodModel, design: &Design) -> f64 {
+        match rod.centreline(design) {
+            Ok(c) => (self.profiles).objective_of_rod(&c, rod.table.bare.radius, self.objective),
+            Err(_) => FAILED_SOLVE_PENALTY,
+        }
+    }
+
+    /// The candidate at unit-cube point `u`: simulated (or put on the rod),
+    /// scored, and made the incumbent if better. Infinite once cancelled
+    /// (the caller drops that generation).
     pub fn evaluate(&self, u: &[f64], incumbent: &Incumbent) -> f64 {
         if self.cancel.load(Ordering::Relaxed) {
             return f64::INFINITY;
@@ -86,6 +100,15 @@ impl Scorer<'_> {
             patches: self.space.patches(u),
             ..self.base.clone()
         };
+        if let Some(rod) = self.rod {
+            let f = self.rod_score(rod, &candidate);
+            if let Ok(mut best) = incumbent.best.lock()
+                && f < best.0
+            {
+                *best = (f, candidate.patches);
+            }
+            return f;
+        }
         let start = if self.warm_starts {
             incumbent.warm.lock().ok().and_then(|w| w.clone())
         } else {

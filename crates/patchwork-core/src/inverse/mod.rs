@@ -31,6 +31,7 @@ mod incumbent;
 pub mod input;
 pub mod layout;
 pub mod limits;
+pub mod memo;
 pub mod objective;
 mod outcome;
 mod plan;
@@ -65,5 +66,7 @@ pub use presets::{Fidelity, PRESETS, PresetRow};
 pub use report::DesignReport;
 pub use run::Observer;
 pub use settings::UserSettings;
-pub use tuning::{FinalRefineSettings, INITIAL_STEP, Start, Tuning, TuningOverrides};
+pub use tuning::{
+    FinalRefineSettings, INITIAL_STEP, ROD_EVALUATIONS, Start, Tuning, TuningOverrides,
+};
 pub use variables::{DesignSpace, Freedom, VariableBounds};

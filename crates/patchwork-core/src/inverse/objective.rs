@@ -146,15 +146,33 @@ impl TargetProfiles {
         if !self.keep_clear {
             return 0.0;
         }
-        let residuals =
-            self.clearance_residuals(simulation.centreline.points(), &simulation.radii());
-        DEFAULT_SHAPE_WEIGHT * l2(&residuals) / 100.0
+        self.clearance_penalty_of(simulation.centreline.points(), &simulation.radii())
+    }
+
+    /// The same for a tube along `centres` with `radii_mm`.
+    fn clearance_penalty_of(&self, centres: &[Point], radii_mm: &[f64]) -> f64 {
+        if !self.keep_clear {
+            return 0.0;
+        }
+        DEFAULT_SHAPE_WEIGHT * l2(&self.clearance_residuals(centres, radii_mm)) / 100.0
     }
 
     /// The objective of a simulated design: its centreline's, and its
     /// clearance penalty when the tube must keep clear of itself.
     pub fn objective_of(&self, simulation: &Simulation, options: &ObjectiveOptions) -> f64 {
         self.objective(&simulation.centreline, options) + self.clearance_penalty(simulation)
+    }
+
+    /// The objective of a rod's centreline, the tube around it of
+    /// `radius_mm` throughout.
+    pub fn objective_of_rod(
+        &self,
+        centreline: &Curve,
+        radius_mm: f64,
+        options: &ObjectiveOptions,
+    ) -> f64 {
+        let radii = vec![radius_mm; centreline.len()];
+        self.objective(centreline, options) + self.clearance_penalty_of(centreline.points(), &radii)
     }
 
     /// κ and τ of a simulated centreline, smoothed like the target, at the same

@@ -19,6 +19,12 @@ pub const ROBUST_SOLVES: usize = 270;
 /// Default initial CMA-ES step in the unit cube.
 pub const INITIAL_STEP: f64 = 0.2;
 
+/// Rod evaluations that count as one evaluation of the search's budget
+/// and patience when it runs on the rod model: a rod evaluation, the
+/// objective included, costs under a millisecond against tens to hundreds
+/// for a search solve on FE.
+pub const ROD_EVALUATIONS: usize = 10;
+
 /// Every tuning value of a run. [`Default`] is a plain search: 600
 /// evaluations on a uniform 2 mm model, verified on uniform 1 mm, with no
 /// refine, correction or final refine; the presets set those.
@@ -38,6 +44,12 @@ pub struct Tuning {
     /// of the candidate's own kinematic estimate (for CMA-ES-sized steps the
     /// kinematic start converges in fewer Newton iterations).
     pub warm_starts: bool,
+    /// Search on the rod model (`crate::rod`: each candidate in about a
+    /// tenth of a millisecond, from a table of one-patch FE solves kept
+    /// for the scene), [`ROD_EVALUATIONS`] rod evaluations counting as one
+    /// of the search's budget and patience, instead of FE solves on
+    /// `search_mesh`.
+    pub rod_search: bool,
     pub objective: ObjectiveOptions,
     pub search_mesh: MeshSpec,
     pub verify_mesh: MeshSpec,
@@ -98,6 +110,7 @@ impl Default for Tuning {
             initial_step: INITIAL_STEP,
             start: Start::Ksa,
             warm_starts: false,
+            rod_search: false,
             objective: ObjectiveOptions::default(),
             search_mesh: MeshSpec::uniform(2.0),
             verify_mesh: MeshSpec::uniform(1.0),
@@ -199,6 +212,9 @@ pub struct TuningOverrides {
     pub start: Option<Start>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub warm_starts: Option<bool>,
+    /// Whether the search runs on the rod model (true) or on FE solves.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rod_search: Option<bool>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub objective: Option<ObjectiveOptions>,
     /// Uniform meshes of this element size for the search, half of it for
@@ -264,6 +280,7 @@ impl TuningOverrides {
         tuning.initial_step = self.initial_step.unwrap_or(tuning.initial_step);
         tuning.start = self.start.unwrap_or(tuning.start);
         tuning.warm_starts = self.warm_starts.unwrap_or(tuning.warm_starts);
+        tuning.rod_search = self.rod_search.unwrap_or(tuning.rod_search);
         tuning.objective = self.objective.unwrap_or(tuning.objective);
         tuning.trains = self.trains.unwrap_or(tuning.trains);
         tuning.gentle_bends = self.gentle_bends.unwrap_or(tuning.gentle_bends);

@@ -4,6 +4,7 @@ use std::time::Duration;
 use super::*;
 use crate::design::Patch;
 use crate::fe::mesh::MeshSpec;
+use crate::inverse::memo::KEEP;
 use crate::inverse::reach::PatchResponse;
 
 /// A complete table for `bounds`, each entry's curvature `mark`.
@@ -134,5 +135,5 @@ fn memory_keeps_no_more_than_keep_tables() {
     )
     .unwrap();
     assert!(recomputed.get() && first.entries[0].curvature_per_mm == -1.0);
-    assert!(KEPT.lock().unwrap().len() <= KEEP);
+    assert!(KEPT.len() <= KEEP);
 }

@@ -48,6 +48,7 @@ impl Polish {
             cancel: ctx.cancel,
             deadline: ctx.deadline,
             caches: ctx.caches,
+            rod: None,
         };
         let polished = polish(
             &scorer,

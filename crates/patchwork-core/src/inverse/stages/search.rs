@@ -1,12 +1,22 @@
 //! The search: CMA-ES over the free patch variables in the unit cube, each
 //! candidate simulated on the search model and scored by the objective;
-//! checkpointed after every generation.
+//! checkpointed after every generation. The search model is the rod
+//! (`crate::rod`, with `rod_search`: its table of one-patch FE solves on
+//! the verification model found or kept by `rod_model.rs`, and
+//! [`ROD_EVALUATIONS`] times the budget and patience), else FE on the
+//! search mesh. On the rod the seed is scored again on it, so that the
+//! search keeps the seed only where the rod finds nothing better, and its
+//! evaluations count in the budget's units (ten make one).
 
 use super::super::errors::DesignRunError;
 use super::super::incumbent::{Incumbent, Scorer, unit_cube_options};
 use super::super::outcome::{SearchEnd, StageName};
 use super::super::run::{Context, Run};
+use super::rod_model::{RodModel, rod_model};
 use crate::cmaes::Optimizer;
+use crate::design::Design;
+use crate::inverse::DesignCheckpoint;
+use crate::inverse::ROD_EVALUATIONS;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Search {
@@ -29,14 +39,15 @@ impl Search {
             return Ok(());
         }
         let (settings, tuning) = (run.setup.settings, run.setup.tuning);
+        let rod = match tuning.rod_search {
+            true => rod_model(run, ctx)?,
+            false => None,
+        };
+        let (scale, before) = units(rod.as_ref());
         let state = &mut run.state;
-        let incumbent = Incumbent::new(
-            state.best_objective,
-            state.best_patches.clone(),
-            run.warm_start.take(),
-        );
         let base = state.base.clone();
         let scorer = Scorer {
+            rod: rod.as_ref(),
             space: &run.space,
             base: &base,
             model: &run.setup.search_model,
@@ -47,6 +58,14 @@ impl Search {
             deadline: ctx.deadline,
             caches: ctx.caches,
         };
+        if state.optimizer.is_none() {
+            rod.iter().for_each(|rod| rescore_seed(state, &scorer, rod));
+        }
+        let incumbent = Incumbent::new(
+            state.best_objective,
+            state.best_patches.clone(),
+            run.warm_start.take(),
+        );
         let objective = |u: &[f64]| scorer.evaluate(u, &incumbent);
         // The optimiser lives in the checkpoint state, so what is
         // checkpointed is what runs.
@@ -57,27 +76,18 @@ impl Search {
                     run.space.seed_point(),
                     self.initial_step,
                     settings.seed,
-                    self.budget,
+                    self.budget * scale,
                     settings.threads,
                 ))
             });
             let ended = optimizer.step(&objective);
             let (generation, sigma) = (optimizer.strategy.generation, optimizer.strategy.sigma);
-            state.evaluations = 1 + optimizer.evaluations();
+            state.evaluations = before + optimizer.evaluations().div_ceil(scale);
             // A generation evaluated while cancelling saw infinities: drop it.
             ctx.check_cancelled()?;
-            let previous_best = state.best_objective;
-            (state.best_objective, state.best_patches) = incumbent.best();
-            if state.best_objective < previous_best {
-                state.improved_at = state.evaluations;
-            }
-            ctx.report(
-                StageName::Search,
-                generation,
-                state.evaluations,
-                state.best_objective,
-                sigma,
-            );
+            take_best(state, &incumbent);
+            let (evaluations, best) = (state.evaluations, state.best_objective);
+            ctx.report(StageName::Search, generation, evaluations, best, sigma);
             ctx.checkpoint(state);
             if let Some(ended) = ended {
                 break SearchEnd::Optimizer(ended);
@@ -93,4 +103,35 @@ impl Search {
         run.design = run.state.best_design();
         Ok(())
     }
+}
+
+/// The incumbent's best as the state's, and when it last improved.
+fn take_best(state: &mut DesignCheckpoint, incumbent: &Incumbent) {
+    let previous_best = state.best_objective;
+    (state.best_objective, state.best_patches) = incumbent.best();
+    if state.best_objective < previous_best {
+        state.improved_at = state.evaluations;
+    }
+}
+
+/// The units of the search's evaluations, and the evaluations the run
+/// spent before it: on the rod, [`ROD_EVALUATIONS`] rod evaluations make
+/// one, and the run solved the seed on the search mesh and on the
+/// verification model; on FE each is one solve, after the seed's.
+fn units(rod: Option<&RodModel>) -> (usize, usize) {
+    match rod {
+        Some(_) => (ROD_EVALUATIONS, 2),
+        None => (1, 1),
+    }
+}
+
+/// The seed scored on the rod, as the search's start and the seed's
+/// objective (both on the search's model).
+fn rescore_seed(state: &mut DesignCheckpoint, scorer: &Scorer<'_>, rod: &RodModel) {
+    let seed = Design {
+        patches: state.best_patches.clone(),
+        ..state.base.clone()
+    };
+    state.best_objective = scorer.rod_score(rod, &seed);
+    state.seed_objective = state.best_objective;
 }
