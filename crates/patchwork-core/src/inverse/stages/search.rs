@@ -2,11 +2,11 @@
 //! candidate simulated on the search model and scored by the objective;
 //! checkpointed after every generation. The search model is the rod
 //! (`crate::rod`, with `rod_search`: its table of one-patch FE solves on
-//! the verification model found or kept by `rod_model.rs`, and
-//! [`ROD_EVALUATIONS`] times the budget and patience), else FE on the
+//! the verification model found or kept by `rod_model.rs`), else FE on the
 //! search mesh. On the rod the seed is scored again on it, so that the
-//! search keeps the seed only where the rod finds nothing better, and its
-//! evaluations count in the budget's units (ten make one).
+//! search keeps the seed only where the rod finds nothing better, and
+//! [`ROD_EVALUATIONS`] rod evaluations count as one of the budget and the
+//! patience.
 
 use super::super::errors::DesignRunError;
 use super::super::incumbent::{Incumbent, Scorer, unit_cube_options};
