@@ -171,8 +171,12 @@ impl TargetProfiles {
         radius_mm: f64,
         options: &ObjectiveOptions,
     ) -> f64 {
+        let shape = self.objective(centreline, options);
+        if !self.keep_clear {
+            return shape;
+        }
         let radii = vec![radius_mm; centreline.len()];
-        self.objective(centreline, options) + self.clearance_penalty_of(centreline.points(), &radii)
+        shape + self.clearance_penalty_of(centreline.points(), &radii)
     }
 
     /// κ and τ of a simulated centreline, smoothed like the target, at the same

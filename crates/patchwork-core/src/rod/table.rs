@@ -125,12 +125,7 @@ impl RodTable {
     pub fn is_complete(&self, bounds: &VariableBounds) -> bool {
         let [a, b, c] = axes(bounds);
         let whole = a.len() * b.len() * c.len();
-        [a, b, c]
-            == [
-                self.lengths_mm.clone(),
-                self.widths_mm.clone(),
-                self.angles_deg.clone(),
-            ]
+        (a == self.lengths_mm && b == self.widths_mm && c == self.angles_deg)
             && self.entries.len() == whole
     }
 
