@@ -197,7 +197,11 @@ fn spread_lines(r: &DesignReport) -> String {
         (None, Some(why)) => format!("spread:       not found: {why}\n"),
         (None, None) => String::new(),
     };
-    spread + &robust_lines(r)
+    let rod = match &r.rod_skipped {
+        Some(why) => format!("rod search:   not run, searched on FE: {why}\n"),
+        None => String::new(),
+    };
+    spread + &robust_lines(r) + &rod
 }
 
 /// What the robust refine did: both designs' figures and which stands.

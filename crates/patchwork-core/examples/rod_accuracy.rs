@@ -17,7 +17,6 @@
 #[path = "common/seeds.rs"]
 mod seeds;
 
-use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use patchwork_core::cmaes::SeededRng;
@@ -75,8 +74,7 @@ fn main() {
     };
     let started = Instant::now();
     let base = Design::reference(vec![]);
-    let never = AtomicBool::new(false);
-    let table = RodTable::compute(&base, &VariableBounds::default(), &options, 2, &never)
+    let table = RodTable::compute(&base, &VariableBounds::default(), &options, 2, &|| false)
         .expect("the table's balloons solve");
     let fits = &table.fit_mm;
     let worst_fit = fits.iter().copied().fold(0.0, f64::max);

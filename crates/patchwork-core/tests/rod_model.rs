@@ -3,8 +3,6 @@
 //! fit saw (docs/studies.md, "A rod model for the search", measures it on
 //! 40 designs).
 
-use std::sync::atomic::AtomicBool;
-
 use patchwork_core::curve::{Preset, ReferenceCurve, shape_error};
 use patchwork_core::design::Design;
 use patchwork_core::fe::{SimulateOptions, simulate};
@@ -51,8 +49,7 @@ fn the_rod_follows_fe_on_designs_its_table_never_saw() {
     let options = model();
     let base = Design::reference(vec![]);
     let bounds = VariableBounds::default();
-    let never = AtomicBool::new(false);
-    let table = RodTable::compute(&base, &bounds, &options, 2, &never).unwrap();
+    let table = RodTable::compute(&base, &bounds, &options, 2, &|| false).unwrap();
     assert!(table.is_complete(&bounds));
     let mut k = 0;
     for h in &table.lengths_mm {
@@ -81,6 +78,19 @@ fn the_rod_follows_fe_on_designs_its_table_never_saw() {
         );
         assert!(rod_s < 1e-3 || rod_s < fe.elapsed.as_secs_f64() / 100.0);
     }
+}
+
+/// A table whose `stop` answers true part way solves no further balloon
+/// and is not complete, so no search uses it and no store keeps it.
+#[test]
+fn a_stopped_table_is_incomplete() {
+    let calls = std::sync::atomic::AtomicUsize::new(0);
+    let stop = || calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 3;
+    let bounds = VariableBounds::default();
+    let base = Design::reference(vec![]);
+    let table = RodTable::compute(&base, &bounds, &model(), 1, &stop).unwrap();
+    assert_eq!(table.entries.len(), 3);
+    assert!(!table.is_complete(&bounds));
 }
 
 /// A rod table mirrors a patch at −Θ: the same bend, its side turned the

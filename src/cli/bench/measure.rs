@@ -82,6 +82,7 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
     let mut reach = String::from("–");
     let mut aimed: Option<Curve> = None;
     let mut stages = Vec::new();
+    let mut first = None;
     for seed in 1..=args.runs as u64 {
         let settings = UserSettings {
             fidelity: setting.fidelity,
@@ -100,8 +101,9 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
             Ok(o) => {
                 let wall_s = started.elapsed().as_secs_f64();
                 reach = verdict(&o);
-                if stages.is_empty() {
+                if first.is_none() {
                     stages = o.stage_times.iter().map(|t| (t.stage, t.seconds)).collect();
+                    first = Some(o.design.clone());
                 }
                 // The target the runs aimed at: smoothed as they smoothed
                 // it, the same for every seed.
@@ -140,6 +142,7 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
         reach,
         failures,
         stages,
+        design: first,
     })
 }
 

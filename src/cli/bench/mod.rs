@@ -16,11 +16,13 @@ mod measure;
 mod render;
 mod replot;
 mod report;
+mod rod;
 mod row;
 mod suite;
 mod sureness;
 mod text;
 mod users;
+mod users_goals;
 
 use anyhow::{Context, Result};
 

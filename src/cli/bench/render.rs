@@ -146,6 +146,7 @@ mod tests {
             reach: String::new(),
             failures: 0,
             stages,
+            design: None,
         }
     }
 

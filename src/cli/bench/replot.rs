@@ -39,6 +39,7 @@ pub fn rows(text: &str) -> Result<Vec<Row>> {
             reach: String::new(),
             failures: 0,
             stages: Vec::new(),
+            design: None,
         });
     }
     Ok(rows)

@@ -1,6 +1,7 @@
 //! What a bench measures of one curve under one setting: its figures, the
 //! reach verdict and the failures.
 
+use patchwork_core::design::Design;
 use patchwork_core::inverse::StageName;
 
 /// One curve under one setting: medians over the runs.
@@ -15,6 +16,8 @@ pub struct Row {
     /// Seconds each stage of the first finished run took, in the plan's
     /// order (empty when unknown).
     pub stages: Vec<(StageName, f64)>,
+    /// The first finished run's design (none when no run finished).
+    pub design: Option<Design>,
 }
 
 /// One run's figures (or their medians over the runs).

@@ -30,6 +30,25 @@ pub struct DesignCheckpoint {
     pub improved_at: usize,
     /// Wall time spent on the run so far, over every process that ran it.
     pub elapsed_s: f64,
+    /// A search on the rod (tuning `rod_search`): where its rod was last
+    /// corrected and the best corrected design; none on FE and before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rod: Option<RodRounds>,
+}
+
+/// The state of a search on the rod between its corrections (see
+/// `stages/rod_search.rs`), so that a resumed search corrects where the
+/// interrupted one did.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RodRounds {
+    /// The design the rod was last corrected at (solved on the
+    /// verification model).
+    pub corrected_at: Vec<Patch>,
+    /// Evaluations at which the next correction is due.
+    pub next_at: usize,
+    /// The best design by its corrected score so far, and that score.
+    pub kept_objective: f64,
+    pub kept_patches: Vec<Patch>,
 }
 
 impl DesignCheckpoint {

@@ -104,7 +104,7 @@ fn note_time_limit(run: &mut Run<'_>, stage: StageName, ctx: &Context<'_>) {
 /// Whether `stage` is skipped because the time limit has passed: every
 /// stage but the verification, which the outcome needs. A skipped stage
 /// whose report the outcome carries (the spread, the final and robust
-/// refines) says why it has none.
+/// refines, a search on the rod) says why it has none.
 fn skipped_for_time(run: &mut Run<'_>, stage: StageName) -> bool {
     let Some(limited) = run.time_limited.as_mut() else {
         return false;
@@ -122,6 +122,7 @@ fn skipped_for_time(run: &mut Run<'_>, stage: StageName) -> bool {
         StageName::Spread => run.spread_failed = Some(why),
         StageName::FinalRefine => run.final_refine_skipped = Some(why),
         StageName::Robust => run.robust_skipped = Some(why),
+        StageName::Search if run.setup.tuning.rod_search => run.rod_skipped = Some(why),
         _ => {}
     }
     true
@@ -190,6 +191,7 @@ fn outcome(
         spread_failed: run.spread_failed,
         robust: run.robust,
         robust_skipped: run.robust_skipped,
+        rod_skipped: run.rod_skipped,
         stage_times,
         elapsed: Duration::from_secs_f64(ctx.elapsed_s()),
         time_limited: run.time_limited,

@@ -79,16 +79,6 @@ impl Scorer<'_> {
         )
     }
 
-    /// Objective of `design` on `rod`: its centreline's, the tube of the
-    /// bare radius throughout (the failed-solve penalty if the rod has no
-    /// centreline).
-    pub fn rod_score(&self, rod: &RodModel, design: &Design) -> f64 {
-        match rod.centreline(design) {
-            Ok(c) => (self.profiles).objective_of_rod(&c, rod.table.bare.radius, self.objective),
-            Err(_) => FAILED_SOLVE_PENALTY,
-        }
-    }
-
     /// The candidate at unit-cube point `u`: simulated (or put on the rod),
     /// scored, and made the incumbent if better. Infinite once cancelled
     /// (the caller drops that generation).
@@ -101,7 +91,8 @@ impl Scorer<'_> {
             ..self.base.clone()
         };
         if let Some(rod) = self.rod {
-            let f = self.rod_score(rod, &candidate);
+            let f = (rod.score(&candidate, self.profiles, self.objective))
+                .unwrap_or(FAILED_SOLVE_PENALTY);
             if let Ok(mut best) = incumbent.best.lock()
                 && f < best.0
             {

@@ -49,7 +49,7 @@ pub mod variables;
 
 pub use assess::assess;
 pub use caches::Caches;
-pub use checkpoint::DesignCheckpoint;
+pub use checkpoint::{DesignCheckpoint, RodRounds};
 pub use deadline::Deadline;
 pub use errors::{DesignRunError, SettingsError};
 pub use evaluation_cache::{CacheCounts, EvaluationCache};

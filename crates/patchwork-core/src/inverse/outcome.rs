@@ -291,6 +291,10 @@ pub struct DesignOutcome {
     /// where it was planned).
     pub robust: Option<RobustSummary>,
     pub robust_skipped: Option<String>,
+    /// Why a search planned on the rod model (tuning `rod_search`) ran on
+    /// FE instead: its table could not be solved, or the time limit passed
+    /// first.
+    pub rod_skipped: Option<String>,
     /// Each stage the run took in this process, in order, with its time.
     pub stage_times: Vec<StageTime>,
     pub elapsed: Duration,

@@ -115,6 +115,9 @@ pub struct DesignReport {
     /// Why a planned robust refine did not run.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub robust_skipped: Option<String>,
+    /// Why a search planned on the rod model ran on FE instead.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rod_skipped: Option<String>,
     /// Where the run's time limit (`time_limit_s`) cut it short: the stage
     /// under way, which stopped with its best design so far, and the stages
     /// skipped; absent when the run finished within its limit.
@@ -168,6 +171,7 @@ impl DesignReport {
             spread_failed: outcome.spread_failed.clone(),
             robust: outcome.robust.clone(),
             robust_skipped: outcome.robust_skipped.clone(),
+            rod_skipped: outcome.rod_skipped.clone(),
             time_limited: outcome.time_limited.clone(),
         }
     }

@@ -289,6 +289,8 @@ pub struct Run<'a> {
     /// The robust stage's summary, or why it did not run.
     pub robust: Option<RobustSummary>,
     pub robust_skipped: Option<String>,
+    /// Why a search planned on the rod ran on FE.
+    pub rod_skipped: Option<String>,
     /// What the time limit cut short, once it passed.
     pub time_limited: Option<TimeLimited>,
 }
@@ -324,6 +326,7 @@ impl<'a> Run<'a> {
             spread_state: None,
             robust: None,
             robust_skipped: None,
+            rod_skipped: None,
             time_limited: None,
         }
     }

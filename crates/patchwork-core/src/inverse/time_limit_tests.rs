@@ -19,7 +19,12 @@ fn a_limit_passed_at_the_seed_leaves_a_verified_seed_that_says_so() {
         time_limit_s: Some(1e-3),
         ..UserSettings::default()
     };
-    let plan = Plan::resolve(settings, &TuningOverrides::default()).unwrap();
+    // A search asked on the rod says it did not run there.
+    let overrides = TuningOverrides {
+        rod_search: Some(true),
+        ..TuningOverrides::default()
+    };
+    let plan = Plan::resolve(settings, &overrides).unwrap();
     let o = design(&target, &plan, &AtomicBool::new(false), &mut |_| {}).unwrap();
     let limited = o.time_limited.clone().expect("the limit cut the run short");
     assert_eq!(limited.limit_s, 1e-3);
@@ -40,6 +45,11 @@ fn a_limit_passed_at_the_seed_leaves_a_verified_seed_that_says_so() {
     let why = o.spread_failed.as_deref().unwrap_or_default();
     assert!(
         why.contains("time limit") && why.contains("spread"),
+        "{why}"
+    );
+    let why = o.rod_skipped.as_deref().unwrap_or_default();
+    assert!(
+        why.contains("time limit") && why.contains("search"),
         "{why}"
     );
     assert_ne!(o.termination, SearchEnd::Search(SearchStop::TimeLimit));

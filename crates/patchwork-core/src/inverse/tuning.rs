@@ -46,9 +46,10 @@ pub struct Tuning {
     pub warm_starts: bool,
     /// Search on the rod model (`crate::rod`: each candidate in about a
     /// tenth of a millisecond, from a table of one-patch FE solves kept
-    /// for the scene), [`ROD_EVALUATIONS`] rod evaluations counting as one
-    /// of the search's budget and patience, instead of FE solves on
-    /// `search_mesh`.
+    /// for the scene, corrected by FE on the verification model at the
+    /// seed and in rounds after), [`ROD_EVALUATIONS`] rod evaluations
+    /// counting as one of the search's budget and patience, instead of FE
+    /// solves on `search_mesh`.
     pub rod_search: bool,
     pub objective: ObjectiveOptions,
     pub search_mesh: MeshSpec,

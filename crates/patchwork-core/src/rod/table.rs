@@ -5,8 +5,6 @@
 //! every axis (clamped at its ends), and a patch at −Θ is the mirror image
 //! of one at Θ.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-
 use serde::{Deserialize, Serialize};
 
 use super::bare::BareTube;
@@ -63,14 +61,15 @@ impl RodTable {
     /// The table of `base`'s balloon, patch material and pressure over
     /// `bounds`, every balloon solved with `options` on up to `threads`
     /// threads. An error if the bare balloon or any patch's does not solve.
-    /// Once `cancel` is set no further solve starts, and the table holds
-    /// the entries solved before (not [`complete`](RodTable::is_complete)).
+    /// Once `stop` answers true no further solve starts, and the table
+    /// holds the entries solved before (not
+    /// [`complete`](RodTable::is_complete)).
     pub fn compute(
         base: &Design,
         bounds: &VariableBounds,
         options: &SimulateOptions,
         threads: usize,
-        cancel: &AtomicBool,
+        stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<RodTable, SimulateError> {
         let options = SimulateOptions {
             rings: RINGS,
@@ -97,7 +96,7 @@ impl RodTable {
             .collect();
         let radius = base.balloon.radius_mm;
         let fitted = map_in_threads(&grid, threads, &|&patch| {
-            if cancel.load(Ordering::Relaxed) {
+            if stop() {
                 return None;
             }
             let design = Design {

@@ -9,6 +9,7 @@
 //! announces it by its name.
 
 mod final_refine;
+mod generations;
 mod layout;
 mod length;
 mod polish;
@@ -16,6 +17,7 @@ mod reach;
 mod refine;
 mod robust;
 mod rod_model;
+mod rod_search;
 mod search;
 mod seed;
 mod spread;

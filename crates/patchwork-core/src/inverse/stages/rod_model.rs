@@ -4,14 +4,20 @@
 //! on the default bounds, about five seconds on two cores) and kept; and
 //! its gap to FE at the seed, which corrects every candidate's centreline
 //! (output space mapping, as the refine's correction: the rod's error is
-//! mostly the same for designs near the seed, where the search looks). The
-//! table's solves count in the search stage's time, not in its
-//! evaluations; the seed's solve on the verification model is one
-//! evaluation. A table that cannot be solved (a one-patch balloon fails)
-//! leaves the search on FE.
+//! mostly the same for nearby designs; `rod_search.rs` corrects it again
+//! where the search has moved). The
+//! table's solves count in the search stage's time and are bounded by the
+//! run's time limit, not counted in its evaluations; the seed's solve on
+//! the verification model is one evaluation. A resumed search's rod is
+//! corrected where the checkpoint says it last was (`RodRounds`). A table that cannot be
+//! solved (a one-patch balloon fails, or the time limit passes first)
+//! leaves the search on FE, and the outcome's `rod_skipped` says why.
+
+use std::sync::atomic::Ordering;
 
 use super::super::errors::DesignRunError;
 use super::super::memo::{Kept, scene_key};
+use super::super::objective::{ObjectiveOptions, TargetProfiles};
 use super::super::run::{Context, Run};
 use crate::curve::{Curve, CurveError, Point};
 use crate::design::Design;
@@ -26,21 +32,51 @@ const SAMPLES: usize = 200;
 /// The rod the search scores its candidates on.
 pub struct RodModel {
     pub table: RodTable,
-    /// FE's centreline of the seed minus the rod's, at [`SAMPLES`] equal
-    /// fractions of their lengths (zero where the seed has no FE state).
+    /// FE's centreline minus the rod's at the design last corrected at, at
+    /// [`SAMPLES`] equal fractions of their lengths (zero before the first
+    /// correction).
     offset: Vec<Point>,
 }
 
 impl RodModel {
-    /// `design`'s rod centreline, corrected by the gap at the seed.
+    /// `design`'s rod centreline, corrected by the gap where it was last
+    /// corrected.
     pub fn centreline(&self, design: &Design) -> Result<Curve, CurveError> {
         let rod = self.table.centreline(design)?.resample(SAMPLES)?;
         let points = rod.points().iter().zip(&self.offset);
         Curve::from_points(points.map(|(p, d)| p + d).collect())
     }
+
+    /// `design`'s objective: its corrected centreline's, the tube of the
+    /// bare radius throughout (none if the rod has no centreline).
+    pub fn score(
+        &self,
+        design: &Design,
+        profiles: &TargetProfiles,
+        objective: &ObjectiveOptions,
+    ) -> Option<f64> {
+        let centreline = self.centreline(design).ok()?;
+        Some(profiles.objective_of_rod(&centreline, self.table.bare.radius, objective))
+    }
+
+    /// Corrects the rod by its gap to `fe`, FE's centreline of `design`, so
+    /// that `design`'s corrected centreline is FE's (the gap kept if the rod
+    /// has no centreline there).
+    pub fn correct_at(&mut self, design: &Design, fe: &Curve) {
+        let gap = || {
+            let fe = fe.resample(SAMPLES).ok()?;
+            let rod = self.table.centreline(design).ok()?.resample(SAMPLES).ok()?;
+            let gap = fe.points().iter().zip(rod.points());
+            Some(gap.map(|(f, r)| f - r).collect())
+        };
+        if let Some(offset) = gap() {
+            self.offset = offset;
+        }
+    }
 }
 
-/// The run's rod model; none if its table could not be solved.
+/// The run's rod model; none, and `run.rod_skipped` saying why, if its
+/// table could not be solved or the time limit passed first.
 pub(super) fn rod_model(
     run: &mut Run<'_>,
     ctx: &Context<'_>,
@@ -50,31 +86,48 @@ pub(super) fn rod_model(
     let model = &setup.verify_model;
     let key = scene_key("rod table 1", base, bounds, model, &axes(bounds));
     let mut solves = 0;
+    let (cancel, deadline) = (ctx.cancel, ctx.deadline);
+    let stop = || cancel.load(Ordering::Relaxed) || deadline.passed();
     let compute = || {
         let [a, b, c] = axes(bounds);
         solves = 1 + a.len() * b.len() * c.len();
-        RodTable::compute(base, bounds, model, setup.settings.threads, ctx.cancel)
+        RodTable::compute(base, bounds, model, setup.settings.threads, &stop)
     };
     let table = KEPT.table_for(&key, compute, |t| t.is_complete(bounds));
     ctx.check_cancelled()?;
     run.uncounted_solves += solves;
-    let Ok(table) = table else {
-        return Ok(None);
+    let table = match table {
+        Ok(table) if table.is_complete(bounds) => table,
+        Ok(_) => {
+            let why = "the run's time limit passed while the rod table's balloons were solved";
+            run.rod_skipped = Some(why.into());
+            return Ok(None);
+        }
+        Err(e) => {
+            let why = format!("a balloon of the rod table did not solve: {e}");
+            run.rod_skipped = Some(why);
+            return Ok(None);
+        }
     };
-    let seed = run.state.best_design();
-    let fe = ctx.caches.simulate(&seed, model);
-    run.state.evaluations += 1;
-    let offset = fe.ok().and_then(|fe| {
-        let fe = fe.centreline.resample(SAMPLES).ok()?;
-        let rod = table.centreline(&seed).ok()?.resample(SAMPLES).ok()?;
-        Some(
-            fe.points()
-                .iter()
-                .zip(rod.points())
-                .map(|(f, r)| f - r)
-                .collect(),
-        )
-    });
-    let offset = offset.unwrap_or_else(|| vec![Point::zeros(); SAMPLES]);
-    Ok(Some(RodModel { table, offset }))
+    let mut rod = RodModel {
+        table,
+        offset: vec![Point::zeros(); SAMPLES],
+    };
+    // Where the search last corrected it (its solve counted then), else
+    // at the seed.
+    let at = match &run.state.rod {
+        Some(rounds) => rounds.corrected_at.clone(),
+        None => {
+            run.state.evaluations += 1;
+            run.state.best_patches.clone()
+        }
+    };
+    let at = Design {
+        patches: at,
+        ..run.state.base.clone()
+    };
+    if let Ok(fe) = ctx.caches.simulate(&at, model) {
+        rod.correct_at(&at, &fe.centreline);
+    }
+    Ok(Some(rod))
 }

@@ -2,21 +2,18 @@
 //! candidate simulated on the search model and scored by the objective;
 //! checkpointed after every generation. The search model is the rod
 //! (`crate::rod`, with `rod_search`: its table of one-patch FE solves on
-//! the verification model found or kept by `rod_model.rs`), else FE on the
-//! search mesh. On the rod the seed is scored again on it, so that the
-//! search keeps the seed only where the rod finds nothing better, and
-//! [`ROD_EVALUATIONS`] rod evaluations count as one of the budget and the
-//! patience.
+//! the verification model found or kept by `rod_model.rs`, the search run
+//! in corrected rounds by `rod_search.rs`), else FE on the search mesh.
 
 use super::super::errors::DesignRunError;
 use super::super::incumbent::{Incumbent, Scorer, unit_cube_options};
 use super::super::outcome::{SearchEnd, StageName};
 use super::super::run::{Context, Run};
+use super::generations::{Pause, Units};
 use super::rod_model::{RodModel, rod_model};
+use super::rod_search::search_on_rod;
 use crate::cmaes::Optimizer;
-use crate::design::Design;
 use crate::inverse::DesignCheckpoint;
-use crate::inverse::ROD_EVALUATIONS;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Search {
@@ -38,16 +35,51 @@ impl Search {
         if run.space.dimension() == 0 || self.budget <= 1 {
             return Ok(());
         }
-        let (settings, tuning) = (run.setup.settings, run.setup.tuning);
-        let rod = match tuning.rod_search {
+        let rod = match run.setup.tuning.rod_search {
             true => rod_model(run, ctx)?,
             false => None,
         };
-        let (scale, before) = units(rod.as_ref());
+        let ended = match rod {
+            Some(rod) => {
+                let mut generations =
+                    |run: &mut Run<'_>, ctx: &mut Context<'_>, rod: &RodModel, units| {
+                        self.generations(run, ctx, Some(rod), units)
+                    };
+                search_on_rod(self.budget, run, ctx, rod, &mut generations)?
+            }
+            None => {
+                // The run solved the seed on the search model.
+                let units = Units {
+                    scale: 1,
+                    before: 1,
+                    pause_at: None,
+                };
+                match self.generations(run, ctx, None, units)? {
+                    Pause::Ended(end) => end,
+                    Pause::Round => unreachable!("a search on FE has no rounds"),
+                }
+            }
+        };
+        run.termination = ended;
+        run.design = run.state.best_design();
+        Ok(())
+    }
+
+    /// CMA-ES generations on `rod` (FE on the search model if none) from
+    /// the optimiser the state holds (a new one from the space's seed point
+    /// if none), until the search ends or `units.pause_at`.
+    pub(super) fn generations(
+        &self,
+        run: &mut Run<'_>,
+        ctx: &mut Context<'_>,
+        rod: Option<&RodModel>,
+        units: Units,
+    ) -> Result<Pause, DesignRunError> {
+        let (settings, tuning) = (run.setup.settings, run.setup.tuning);
         let state = &mut run.state;
         let base = state.base.clone();
         let scorer = Scorer {
-            rod: rod.as_ref(),
+            rod,
             space: &run.space,
             base: &base,
             model: &run.setup.search_model,
@@ -58,9 +90,6 @@ impl Search {
             deadline: ctx.deadline,
             caches: ctx.caches,
         };
-        if state.optimizer.is_none() {
-            rod.iter().for_each(|rod| rescore_seed(state, &scorer, rod));
-        }
         let incumbent = Incumbent::new(
             state.best_objective,
             state.best_patches.clone(),
@@ -69,20 +98,20 @@ impl Search {
         let objective = |u: &[f64]| scorer.evaluate(u, &incumbent);
         // The optimiser lives in the checkpoint state, so what is
         // checkpointed is what runs.
-        let ended = loop {
+        loop {
             ctx.check_cancelled()?;
             let optimizer = state.optimizer.get_or_insert_with(|| {
                 Optimizer::new(unit_cube_options(
                     run.space.seed_point(),
                     self.initial_step,
                     settings.seed,
-                    self.budget * scale,
+                    self.budget * units.scale,
                     settings.threads,
                 ))
             });
             let ended = optimizer.step(&objective);
             let (generation, sigma) = (optimizer.strategy.generation, optimizer.strategy.sigma);
-            state.evaluations = before + optimizer.evaluations().div_ceil(scale);
+            state.evaluations = units.before + optimizer.evaluations().div_ceil(units.scale);
             // A generation evaluated while cancelling saw infinities: drop it.
             ctx.check_cancelled()?;
             take_best(state, &incumbent);
@@ -90,18 +119,18 @@ impl Search {
             ctx.report(StageName::Search, generation, evaluations, best, sigma);
             ctx.checkpoint(state);
             if let Some(ended) = ended {
-                break SearchEnd::Optimizer(ended);
+                return Ok(Pause::Ended(SearchEnd::Optimizer(ended)));
             }
             if self.patience > 0 && state.evaluations >= state.improved_at + self.patience {
-                break SearchEnd::STALLED;
+                return Ok(Pause::Ended(SearchEnd::STALLED));
             }
             if ctx.out_of_time() {
-                break SearchEnd::TIME_LIMIT;
+                return Ok(Pause::Ended(SearchEnd::TIME_LIMIT));
             }
-        };
-        run.termination = ended;
-        run.design = run.state.best_design();
-        Ok(())
+            if units.pause_at.is_some_and(|at| state.evaluations >= at) {
+                return Ok(Pause::Round);
+            }
+        }
     }
 }
 
@@ -112,26 +141,4 @@ fn take_best(state: &mut DesignCheckpoint, incumbent: &Incumbent) {
     if state.best_objective < previous_best {
         state.improved_at = state.evaluations;
     }
-}
-
-/// The units of the search's evaluations, and the evaluations the run
-/// spent before it: on the rod, [`ROD_EVALUATIONS`] rod evaluations make
-/// one, and the run solved the seed on the search mesh and on the
-/// verification model; on FE each is one solve, after the seed's.
-fn units(rod: Option<&RodModel>) -> (usize, usize) {
-    match rod {
-        Some(_) => (ROD_EVALUATIONS, 2),
-        None => (1, 1),
-    }
-}
-
-/// The seed scored on the rod, as the search's start and the seed's
-/// objective (both on the search's model).
-fn rescore_seed(state: &mut DesignCheckpoint, scorer: &Scorer<'_>, rod: &RodModel) {
-    let seed = Design {
-        patches: state.best_patches.clone(),
-        ..state.base.clone()
-    };
-    state.best_objective = scorer.rod_score(rod, &seed);
-    state.seed_objective = state.best_objective;
 }

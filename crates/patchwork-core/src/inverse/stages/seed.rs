@@ -79,6 +79,7 @@ impl Seed {
                     evaluations: 1,
                     improved_at: 1,
                     elapsed_s: 0.0,
+                    rod: None,
                 };
                 ctx.checkpoint(&mut state);
                 (state, seed_simulation)
