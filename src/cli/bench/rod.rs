@@ -10,9 +10,9 @@
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use patchwork_core::curve::shape_error;
+use patchwork_core::curve::{Curve, shape_error};
 use patchwork_core::design::Design;
-use patchwork_core::fe::simulate;
+use patchwork_core::fe::{SimulateOptions, simulate};
 use patchwork_core::inverse::objective::SHAPE_SAMPLES;
 use patchwork_core::inverse::{Fidelity, VariableBounds};
 use patchwork_core::rod::RodTable;
@@ -49,8 +49,9 @@ pub fn measure(sets: &[(&'static str, &[Row])], threads: usize) -> Result<RodAcc
         let draft = rows.iter().filter(|r| r.setting == "draft");
         draft.filter_map(|r| r.design.clone()).collect()
     };
-    let base = (sets.iter())
-        .find_map(|(_, rows)| designs(rows).into_iter().next())
+    let base = (sets.iter().flat_map(|(_, rows)| rows.iter()))
+        .filter(|r| r.setting == "draft")
+        .find_map(|r| r.design.clone())
         .context("the rod comparison needs a finished draft design")?;
     let base = Design {
         patches: Vec::new(),
@@ -101,10 +102,7 @@ impl RodSet {
         design: &Design,
         base: &Design,
         table: &RodTable,
-        (verify, search): (
-            &patchwork_core::fe::SimulateOptions,
-            &patchwork_core::fe::SimulateOptions,
-        ),
+        (verify, search): (&SimulateOptions, &SimulateOptions),
     ) {
         let mut balloon = design.balloon.clone();
         balloon.length_mm = base.balloon.length_mm;
@@ -116,7 +114,7 @@ impl RodSet {
             self.skipped += 1;
             return;
         };
-        let error = |c: &patchwork_core::curve::Curve| {
+        let error = |c: &Curve| {
             shape_error(c, &fe.centreline, SHAPE_SAMPLES).map_or(f64::NAN, |e| e.percent_of_length)
         };
         let clock = Instant::now();
