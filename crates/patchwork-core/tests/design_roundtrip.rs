@@ -21,8 +21,9 @@ use patchwork_core::inverse::{
 };
 
 /// A run's settings and tuning in one flat struct, as these tests vary them
-/// (defaults: the plain search of [`Tuning::default`] with the user
-/// defaults of [`UserSettings::default`]).
+/// (defaults: the plain search of [`Tuning::default`] on FE's search mesh,
+/// which these tests are about — the search on the rod has its own, in
+/// `rod_search.rs` — with the user defaults of [`UserSettings::default`]).
 #[derive(Debug, Clone)]
 struct Request {
     base: Design,
@@ -75,6 +76,7 @@ impl Request {
             final_refine: self.final_refine,
             objective: self.objective,
             search_patience: self.search_patience,
+            rod_search: false,
             ..Tuning::default()
         }
     }

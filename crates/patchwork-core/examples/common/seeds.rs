@@ -49,25 +49,30 @@ pub fn designs(
     if incompressible {
         design = design.with_compressibility(Compressibility::Incompressible);
     }
+    let mut near = perturbed(&design, count, 0.2, rng);
+    near.insert(0, design);
+    near
+}
+
+/// `count` perturbations of `base`'s patches at `sigma` in the unit cube
+/// of the default bounds around them.
+pub fn perturbed(base: &Design, count: usize, sigma: f64, rng: &mut SeededRng) -> Vec<Design> {
     let space = DesignSpace::new(
-        design.patches.clone(),
+        base.patches.clone(),
         Freedom::default(),
         &VariableBounds::default(),
-        l0,
+        base.balloon.length_mm,
     )
     .expect("valid bounds");
     let centre = space.seed_point();
-    (0..=count)
-        .map(|k| {
-            let u: Vec<f64> = match k {
-                0 => centre.clone(),
-                _ => (centre.iter())
-                    .map(|c| (c + 0.2 * rng.normal()).clamp(0.0, 1.0))
-                    .collect(),
-            };
+    (0..count)
+        .map(|_| {
+            let u: Vec<f64> = (centre.iter())
+                .map(|c| (c + sigma * rng.normal()).clamp(0.0, 1.0))
+                .collect();
             Design {
                 patches: space.patches(&u),
-                ..design.clone()
+                ..base.clone()
             }
         })
         .collect()

@@ -47,7 +47,8 @@ pub struct Tuning {
     /// Search on the rod model (`crate::rod`: each candidate in about a
     /// tenth of a millisecond, from a table of one-patch FE solves kept
     /// for the scene, corrected by FE on the verification model at the
-    /// seed and in rounds after), [`ROD_EVALUATIONS`] rod evaluations
+    /// seed and in rounds after, each patch's entry fitted to FE's rings),
+    /// [`ROD_EVALUATIONS`] rod evaluations
     /// counting as one of the search's budget and patience, instead of FE
     /// solves on `search_mesh`.
     pub rod_search: bool,

@@ -33,10 +33,34 @@ struct OnePatch<'a> {
     rings: &'a [Ring],
 }
 
-fn rod_at(u: &[f64]) -> PatchRod {
-    let q: Vec<f64> = (u.iter().zip(RANGES))
+/// The point `u` of the unit cube as the quantities of `ranges`.
+pub(super) fn in_ranges(u: &[f64], ranges: &[(f64, f64)]) -> Vec<f64> {
+    (u.iter().zip(ranges))
         .map(|(u, (lo, hi))| lo + u * (hi - lo))
-        .collect();
+        .collect()
+}
+
+/// The rod's centre minus the FE ring's centre at every ring of `rings` but
+/// the clamp's (mm, three per ring), the rod on a balloon of `radius` and
+/// `length` whose bare tube is `bare`, carrying `placed`.
+pub(super) fn ring_gaps(
+    (radius, length): (f64, f64),
+    bare: &BareTube,
+    placed: &[Placed],
+    rings: &[Ring],
+) -> Vec<f64> {
+    let heights: Vec<f64> = rings[1..].iter().map(|r| r.y).collect();
+    let c = centres(radius, length, bare, placed, &heights);
+    (c.iter().zip(&rings[1..]))
+        .flat_map(|(c, r)| {
+            let d = c - r.centre;
+            [d.x, d.y, d.z]
+        })
+        .collect()
+}
+
+fn rod_at(u: &[f64]) -> PatchRod {
+    let q = in_ranges(u, &RANGES);
     PatchRod {
         curvature: q[0],
         twist: q[1],
@@ -53,17 +77,12 @@ impl OnePatch<'_> {
     /// The rod's centre minus the FE ring's centre at every ring but the
     /// clamp's (mm, three per ring).
     fn gaps(&self, rod: PatchRod) -> DVector<f64> {
-        let heights: Vec<f64> = self.rings[1..].iter().map(|r| r.y).collect();
         let placed = [Placed {
             patch: self.patch,
             rod,
         }];
-        let c = centres(self.radius, self.length, self.bare, &placed, &heights);
-        let gaps = c.iter().zip(&self.rings[1..]).flat_map(|(c, r)| {
-            let d = c - r.centre;
-            [d.x, d.y, d.z]
-        });
-        DVector::from_iterator(3 * heights.len(), gaps)
+        let size = (self.radius, self.length);
+        DVector::from_vec(ring_gaps(size, self.bare, &placed, self.rings))
     }
 }
 

@@ -37,11 +37,15 @@ impl Placed {
     }
 }
 
+/// The longest step of the integration (uninflated mm).
+pub const MAX_STEP_MM: f64 = 0.5;
+
 /// The rod's centre at each uninflated height of `heights` (ascending, in
 /// (0, length]), on a balloon of `radius` and `length` whose bare tube is
 /// `bare`, carrying `placed`. The clamp's centre is the origin, its tangent
 /// ẑ and its section axes x̂, ŷ (a patch at X = 0 lies towards x̂), as in the
-/// FE mesh.
+/// FE mesh. Heights further apart than [`MAX_STEP_MM`] are reached in equal
+/// steps no longer than it.
 pub fn centres(
     radius: f64,
     length: f64,
@@ -53,17 +57,22 @@ pub fn centres(
     let mut previous = 0.0;
     let mut out = Vec::with_capacity(heights.len());
     for &y in heights {
-        let dy = y - previous;
-        let middle = 0.5 * (y + previous);
+        // Heights further apart than a step are reached in equal steps.
+        let steps = ((y - previous) / MAX_STEP_MM - 1e-9).ceil().max(1.0);
+        let dy = (y - previous) / steps;
+        for _ in 0..steps as usize {
+            let middle = previous + 0.5 * dy;
+            previous += dy;
+            let (stretch, curvature) = section(radius, length, bare, placed, middle);
+            let half_turn = match Unit::try_new(Point::z().cross(&curvature), 1e-15) {
+                Some(axis) => Rotation3::from_axis_angle(&axis, 0.5 * curvature.norm() * dy),
+                None => Rotation3::identity(),
+            };
+            frame *= half_turn;
+            centre += frame * Point::z() * (stretch * dy);
+            frame *= half_turn;
+        }
         previous = y;
-        let (stretch, curvature) = section(radius, length, bare, placed, middle);
-        let half_turn = match Unit::try_new(Point::z().cross(&curvature), 1e-15) {
-            Some(axis) => Rotation3::from_axis_angle(&axis, 0.5 * curvature.norm() * dy),
-            None => Rotation3::identity(),
-        };
-        frame *= half_turn;
-        centre += frame * Point::z() * (stretch * dy);
-        frame *= half_turn;
         out.push(centre);
     }
     out

@@ -19,14 +19,18 @@
 //! ```
 //!
 //! (κ and τ per uninflated millimetre). The frame turns about ẑ × k only: the
-//! rod carries no material twist between patches.
+//! rod carries no material twist between patches. What a patch's
+//! neighbours do to it is not in the table; an FE solve of a whole design
+//! measures it per patch (`correction.rs`), for designs near that one.
 
 mod bare;
+mod correction;
 mod fit;
 mod integrate;
 mod table;
 
 pub use bare::BareTube;
+pub use correction::{Correction, fit_corrections};
 pub use fit::fit_patch;
 pub use integrate::{PatchRod, Placed, centres};
 pub use table::{RodTable, axes};

@@ -8,6 +8,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::bare::BareTube;
+use super::correction::Correction;
 use super::fit::fit_patch;
 use super::integrate::{PatchRod, Placed, centres};
 use crate::curve::{Curve, CurveError, Point};
@@ -156,16 +157,37 @@ impl RodTable {
         }
     }
 
+    /// The entry of each of `design`'s patches.
+    pub fn entries(&self, design: &Design) -> Vec<PatchRod> {
+        design.patches.iter().map(|p| self.lookup(p)).collect()
+    }
+
     /// The rod's centreline of `design` (on this table's balloon radius,
     /// patch and pressure), from the clamp's centre.
     pub fn centreline(&self, design: &Design) -> Result<Curve, CurveError> {
+        self.corrected_centreline(design, &[])
+    }
+
+    /// [`centreline`](RodTable::centreline) with each patch's entry
+    /// corrected by its own of `corrections` (none if they are not one
+    /// per patch).
+    pub fn corrected_centreline(
+        &self,
+        design: &Design,
+        corrections: &[Correction],
+    ) -> Result<Curve, CurveError> {
         let length = design.balloon.length_mm;
         let n = (length * SECTIONS_PER_MM).ceil().max(1.0) as usize;
         let heights: Vec<f64> = (1..=n).map(|k| length * k as f64 / n as f64).collect();
+        let corrections = match corrections.len() == design.patches.len() {
+            true => corrections,
+            false => &vec![Correction::NONE; design.patches.len()][..],
+        };
         let placed: Vec<Placed> = (design.patches.iter())
-            .map(|p| Placed {
+            .zip(corrections)
+            .map(|(p, c)| Placed {
                 patch: *p,
-                rod: self.lookup(p),
+                rod: c.apply(self.lookup(p)),
             })
             .collect();
         let radius = design.balloon.radius_mm;

@@ -2,16 +2,24 @@
 //! tables this process or the caller's store keeps (`inverse::memo`), else
 //! solved on the verification model (72 one-patch balloons and a bare one
 //! on the default bounds, about five seconds on two cores) and kept; and
-//! its gap to FE at the seed, which corrects every candidate's centreline
-//! (output space mapping, as the refine's correction: the rod's error is
-//! mostly the same for nearby designs; `rod_search.rs` corrects it again
-//! where the search has moved). The
-//! table's solves count in the search stage's time and are bounded by the
-//! run's time limit, not counted in its evaluations; the seed's solve on
-//! the verification model is one evaluation. A resumed search's rod is
-//! corrected where the checkpoint says it last was (`RodRounds`). A table that cannot be
-//! solved (a one-patch balloon fails, or the time limit passes first)
-//! leaves the search on FE, and the outcome's `rod_skipped` says why.
+//! its correction by FE at the seed (`rod_search.rs` corrects it again
+//! where the search has moved). A correction fits each patch's table entry
+//! to FE's rings (`rod::fit_corrections`: what its neighbours do to it
+//! travels with the patch as the search moves it) and keeps the gap left
+//! as an offset of the centreline, so that the corrected rod is FE at the
+//! design corrected at. Nearby, the per-patch correction is what makes the
+//! rod worth searching on: at CMA-ES-sized moves (σ 0.03 in the unit
+//! cube) from twenty designs, the rod alone is 1.91 % of length from FE,
+//! the rod plus the offset alone 1.19 %, the corrected rod plus its offset
+//! 0.29 % (`cargo run --release -p patchwork-core --example rod_mapping --
+//! 2 0.03`; docs/studies.md). The table's solves count in the search
+//! stage's time and are bounded by the run's time limit, not counted in
+//! its evaluations; the seed's solve on the verification model is one
+//! evaluation. A resumed search's rod is corrected where the checkpoint
+//! says it last was (`RodRounds`), which gives the same correction. A
+//! table that cannot be solved (a one-patch balloon fails, or the time
+//! limit passes first) leaves the search on FE, and the outcome's
+//! `rod_skipped` says why.
 
 use std::sync::atomic::Ordering;
 
@@ -21,7 +29,8 @@ use super::super::objective::{ObjectiveOptions, TargetProfiles};
 use super::super::run::{Context, Run};
 use crate::curve::{Curve, CurveError, Point};
 use crate::design::Design;
-use crate::rod::{RodTable, axes};
+use crate::fe::Simulation;
+use crate::rod::{Correction, RodTable, axes, fit_corrections};
 
 /// The rod tables this process keeps.
 static KEPT: Kept<RodTable> = Kept::new();
@@ -32,17 +41,19 @@ const SAMPLES: usize = 200;
 /// The rod the search scores its candidates on.
 pub struct RodModel {
     pub table: RodTable,
-    /// FE's centreline minus the rod's at the design last corrected at, at
-    /// [`SAMPLES`] equal fractions of their lengths (zero before the first
-    /// correction).
+    /// Each patch's correction of its table entry, fitted to FE at the
+    /// design last corrected at (none before the first correction).
+    corrections: Vec<Correction>,
+    /// FE's centreline minus the corrected rod's there, at [`SAMPLES`]
+    /// equal fractions of their lengths (zero before the first correction).
     offset: Vec<Point>,
 }
 
 impl RodModel {
-    /// `design`'s rod centreline, corrected by the gap where it was last
-    /// corrected.
+    /// `design`'s rod centreline, each patch corrected as it was where the
+    /// rod was last corrected, then moved by the gap left there.
     pub fn centreline(&self, design: &Design) -> Result<Curve, CurveError> {
-        let rod = self.table.centreline(design)?.resample(SAMPLES)?;
+        let rod = self.corrected(design)?;
         let points = rod.points().iter().zip(&self.offset);
         Curve::from_points(points.map(|(p, d)| p + d).collect())
     }
@@ -59,19 +70,28 @@ impl RodModel {
         Some(profiles.objective_of_rod(&centreline, self.table.bare.radius, objective))
     }
 
-    /// Corrects the rod by its gap to `fe`, FE's centreline of `design`, so
-    /// that `design`'s corrected centreline is FE's (the gap kept if the rod
-    /// has no centreline there).
-    pub fn correct_at(&mut self, design: &Design, fe: &Curve) {
+    /// Corrects the rod at `design` by FE's solve of it, `fe`: each patch's
+    /// entry fitted to FE's rings ([`fit_corrections`]), then the gap left
+    /// between the centrelines kept as an offset, so that `design`'s
+    /// corrected centreline is FE's (the offset zero if the rod has no
+    /// centreline there).
+    pub fn correct_at(&mut self, design: &Design, fe: &Simulation) {
+        let entries = self.table.entries(design);
+        self.corrections = fit_corrections(&self.table.bare, design, &entries, &fe.rings);
         let gap = || {
-            let fe = fe.resample(SAMPLES).ok()?;
-            let rod = self.table.centreline(design).ok()?.resample(SAMPLES).ok()?;
+            let fe = fe.centreline.resample(SAMPLES).ok()?;
+            let rod = self.corrected(design).ok()?;
             let gap = fe.points().iter().zip(rod.points());
             Some(gap.map(|(f, r)| f - r).collect())
         };
-        if let Some(offset) = gap() {
-            self.offset = offset;
-        }
+        self.offset = gap().unwrap_or_else(|| vec![Point::zeros(); SAMPLES]);
+    }
+
+    /// `design`'s rod centreline with the corrections alone, at
+    /// [`SAMPLES`] points.
+    fn corrected(&self, design: &Design) -> Result<Curve, CurveError> {
+        let rod = self.table.corrected_centreline(design, &self.corrections)?;
+        rod.resample(SAMPLES)
     }
 }
 
@@ -111,6 +131,7 @@ pub(super) fn rod_model(
     };
     let mut rod = RodModel {
         table,
+        corrections: Vec::new(),
         offset: vec![Point::zeros(); SAMPLES],
     };
     // Where the search last corrected it (its solve counted then), else
@@ -127,7 +148,7 @@ pub(super) fn rod_model(
         ..run.state.base.clone()
     };
     if let Ok(fe) = ctx.caches.simulate(&at, model) {
-        rod.correct_at(&at, &fe.centreline);
+        rod.correct_at(&at, &fe);
     }
     Ok(Some(rod))
 }

@@ -102,7 +102,7 @@ fn correct(run: &mut Run<'_>, ctx: &Context<'_>, rod: &mut RodModel) {
     run.state.evaluations += 1;
     let score = match ctx.caches.simulate(&best, &run.setup.verify_model) {
         Ok(fe) => {
-            rod.correct_at(&best, &fe.centreline);
+            rod.correct_at(&best, &fe);
             rod_score(run, rod, &best)
         }
         Err(_) => FAILED_SOLVE_PENALTY,
