@@ -123,3 +123,23 @@ fn a_search_on_the_rod_resumes_where_it_was_corrected() {
     assert_eq!(resumed.evaluations, whole.evaluations);
     assert_eq!(resumed.search_objective, whole.search_objective);
 }
+
+/// A budget too small for two of the rod's rounds searches on FE and says
+/// so: the search spends its budget in FE solves, and no rod table is
+/// solved for it.
+#[test]
+fn a_budget_too_small_for_the_rounds_searches_on_fe_and_says_why() {
+    let budget = 12;
+    let settings = UserSettings {
+        fidelity: Fidelity::Draft,
+        budget: Some(budget),
+        ..UserSettings::default()
+    };
+    let plan = Plan::resolve(settings, &on_the_rod()).expect("valid settings");
+    let o = design(&hook(), &plan, &AtomicBool::new(false), &mut |_| {}).expect("a design");
+    let why = o.rod_skipped.as_deref().unwrap_or_default();
+    assert!(why.contains("budget of 12"), "{why}");
+    let search = o.stage_times.iter().find(|s| s.stage == StageName::Search);
+    let solves = search.expect("a search stage").evaluations;
+    assert!((2..=budget).contains(&solves), "{solves} solves");
+}

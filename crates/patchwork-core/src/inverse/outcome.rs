@@ -292,8 +292,8 @@ pub struct DesignOutcome {
     pub robust: Option<RobustSummary>,
     pub robust_skipped: Option<String>,
     /// Why a search planned on the rod model (tuning `rod_search`) ran on
-    /// FE instead: its table could not be solved, or the time limit passed
-    /// first.
+    /// FE instead: its table could not be solved, the time limit passed
+    /// first, or the search's budget is too small for its rounds.
     pub rod_skipped: Option<String>,
     /// Each stage the run took in this process, in order, with its time.
     pub stage_times: Vec<StageTime>,

@@ -27,6 +27,12 @@ use crate::inverse::{ROD_EVALUATIONS, RodRounds};
 /// Evaluations of the search between two corrections of the rod.
 const ROUND: usize = 30;
 
+/// The smallest budget a search runs on the rod with: two rounds. With
+/// less it runs on FE: one generation on the rod (ten rod evaluations for
+/// a budget of 3) finds less than the same budget of FE solves (the noisy
+/// helix of `tests/stress.rs`: 1.98 % against 0.05 %).
+pub(super) const MIN_BUDGET: usize = 2 * ROUND;
+
 /// The search's CMA-ES generations on a rod, until the search ends or the
 /// units' pause.
 pub(super) type Generations<'a> = dyn FnMut(&mut Run<'_>, &mut Context<'_>, &RodModel, Units) -> Result<Pause, DesignRunError>

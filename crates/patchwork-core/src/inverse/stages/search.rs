@@ -3,7 +3,8 @@
 //! checkpointed after every generation. The search model is the rod
 //! (`crate::rod`, with `rod_search`: its table of one-patch FE solves on
 //! the verification model found or kept by `rod_model.rs`, the search run
-//! in corrected rounds by `rod_search.rs`), else FE on the search mesh.
+//! in corrected rounds by `rod_search.rs`, where the budget holds two of
+//! them), else FE on the search mesh.
 
 use super::super::errors::DesignRunError;
 use super::super::incumbent::{Incumbent, Scorer, unit_cube_options};
@@ -11,7 +12,7 @@ use super::super::outcome::{SearchEnd, StageName};
 use super::super::run::{Context, Run};
 use super::generations::{Pause, Units};
 use super::rod_model::{RodModel, rod_model};
-use super::rod_search::search_on_rod;
+use super::rod_search::{MIN_BUDGET, search_on_rod};
 use crate::cmaes::Optimizer;
 use crate::inverse::DesignCheckpoint;
 
@@ -36,6 +37,13 @@ impl Search {
             return Ok(());
         }
         let rod = match run.setup.tuning.rod_search {
+            true if self.budget < MIN_BUDGET => {
+                run.rod_skipped = Some(format!(
+                    "the search's budget of {} evaluations is less than the {MIN_BUDGET} that two of the rod's corrected rounds take",
+                    self.budget
+                ));
+                None
+            }
             true => rod_model(run, ctx)?,
             false => None,
         };
