@@ -98,7 +98,7 @@ fn none_point(patches: usize) -> Vec<f64> {
 struct Fit<'a> {
     bare: &'a BareTube,
     design: &'a Design,
-    rods: Vec<PatchRod>,
+    rods: &'a [PatchRod],
     rings: &'a [Ring],
     none: Vec<f64>,
 }
@@ -112,7 +112,7 @@ impl Fit<'_> {
     /// (mm, three per ring), then the prior's rows.
     fn gaps(&self, u: &[f64]) -> DVector<f64> {
         let placed: Vec<Placed> = (self.design.patches.iter())
-            .zip(&self.rods)
+            .zip(self.rods)
             .zip(Fit::corrections(u))
             .map(|((patch, rod), c)| Placed {
                 patch: *patch,
@@ -157,7 +157,7 @@ pub fn fit_corrections(
     let fit = Fit {
         bare,
         design,
-        rods: rods.to_vec(),
+        rods,
         rings,
         none: none_point(n),
     };

@@ -57,7 +57,6 @@ pub fn centres(
     let mut previous = 0.0;
     let mut out = Vec::with_capacity(heights.len());
     for &y in heights {
-        // Heights further apart than a step are reached in equal steps.
         let steps = ((y - previous) / MAX_STEP_MM - 1e-9).ceil().max(1.0);
         let dy = (y - previous) / steps;
         for _ in 0..steps as usize {

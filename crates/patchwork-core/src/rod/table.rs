@@ -179,15 +179,17 @@ impl RodTable {
         let length = design.balloon.length_mm;
         let n = (length * SECTIONS_PER_MM).ceil().max(1.0) as usize;
         let heights: Vec<f64> = (1..=n).map(|k| length * k as f64 / n as f64).collect();
-        let corrections = match corrections.len() == design.patches.len() {
-            true => corrections,
-            false => &vec![Correction::NONE; design.patches.len()][..],
-        };
-        let placed: Vec<Placed> = (design.patches.iter())
-            .zip(corrections)
-            .map(|(p, c)| Placed {
-                patch: *p,
-                rod: c.apply(self.lookup(p)),
+        let corrected = corrections.len() == design.patches.len();
+        let placed: Vec<Placed> = (design.patches.iter().enumerate())
+            .map(|(k, p)| {
+                let entry = self.lookup(p);
+                Placed {
+                    patch: *p,
+                    rod: match corrected {
+                        true => corrections[k].apply(entry),
+                        false => entry,
+                    },
+                }
             })
             .collect();
         let radius = design.balloon.radius_mm;
