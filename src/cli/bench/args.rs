@@ -33,7 +33,8 @@ pub struct BenchArgs {
     /// The report's file (`--suite report` only).
     #[arg(long, default_value = "BENCHMARKS.md")]
     pub report: PathBuf,
-    /// Runs per case (seeds 1..=N); the table shows medians.
+    /// Runs per case (seeds 1..=N); the table shows medians, and each
+    /// run's time and shape error go to stderr.
     #[arg(long, default_value_t = 3)]
     pub runs: usize,
     /// Only the curves whose name contains one of these (comma-separated,

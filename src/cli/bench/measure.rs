@@ -113,7 +113,16 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
                 }
                 if let Some(aimed) = &aimed {
                     let times = (wall_s, wall_s - spread_from.get());
-                    samples.push(sample(target, aimed, &plan, &o, times));
+                    let run = sample(target, aimed, &plan, &o, times);
+                    if args.runs > 1 {
+                        eprintln!(
+                            "  {}, {}, seed {seed}: {}",
+                            target.name,
+                            setting.name,
+                            one_run(&run)
+                        );
+                    }
+                    samples.push(run);
                 }
             }
             Err(e) => {
@@ -146,10 +155,15 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
     })
 }
 
-/// The figures of one finished run. The reference error is the design's
-/// on `REFERENCE_MESH` against `aimed`, the target the run aimed at; a
-/// drawn target's clean error is that simulation's against the clean curve
-/// it was drawn from.
+/// One run's time and shape errors, for the log of a case run with
+/// several seeds.
+fn one_run(run: &Sample) -> String {
+    format!(
+        "{:.2} s, {:.2} % (reference model {:.2} %)",
+        run.wall_s, run.shape_error_percent, run.reference_error_percent
+    )
+}
+
 /// An observer of a run begun at `started` that sets `at` to the seconds
 /// at which `stage` began (left as it is if the stage never runs).
 pub fn stage_clock(
@@ -164,7 +178,11 @@ pub fn stage_clock(
     }
 }
 
-/// `times`: the run's wall time and its spread stage's (s).
+/// The figures of one finished run. The reference error is the design's
+/// on `REFERENCE_MESH` against `aimed`, the target the run aimed at; a
+/// drawn target's clean error is that simulation's against the clean curve
+/// it was drawn from. `times`: the run's wall time and its spread stage's
+/// (s).
 fn sample(
     target: &Target,
     aimed: &Curve,
