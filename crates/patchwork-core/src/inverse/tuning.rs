@@ -112,7 +112,7 @@ impl Default for Tuning {
             initial_step: INITIAL_STEP,
             start: Start::Ksa,
             warm_starts: false,
-            rod_search: false,
+            rod_search: true,
             objective: ObjectiveOptions::default(),
             search_mesh: MeshSpec::uniform(2.0),
             verify_mesh: MeshSpec::uniform(1.0),
