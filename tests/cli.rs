@@ -588,6 +588,16 @@ fn design_rejects_bad_options_in_one_line() {
         );
     }
     assert_one_line_error(&patchwork(&["bench", "--quick", "--runs", "0"]), "--runs");
+    for (tuning, needle) in [
+        (
+            r#"{"rod_serch": true}"#,
+            "--tuning: unknown field `rod_serch`",
+        ),
+        (r#"{"initial_step": 2}"#, "--tuning: initial_step"),
+    ] {
+        let bench = ["bench", "--quick", "--out", "/tmp/x", "--tuning", tuning];
+        assert_one_line_error(&patchwork(&bench), needle);
+    }
     // An impossible bound names its field; an unknown one the option.
     for (bounds, needle) in [
         (r#"{"w_min_mm": 5}"#, "w_min_mm"),

@@ -48,4 +48,13 @@ pub struct BenchArgs {
     /// Threads evaluating a generation.
     #[arg(long, default_value_t = patchwork_core::available_cores())]
     pub threads: usize,
+    /// Tuning laid over every design run's own (as `design --tuning`:
+    /// inline JSON, a file, or `-` for stdin), e.g. `'{"rod_search":
+    /// false}'` to measure the search on FE beside the presets on the same
+    /// machine.
+    #[arg(long, value_name = "JSON")]
+    pub tuning: Option<String>,
+    /// The fields `--tuning` gives, read once by the command.
+    #[arg(skip)]
+    pub overrides: serde_json::Map<String, serde_json::Value>,
 }

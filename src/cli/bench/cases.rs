@@ -143,3 +143,16 @@ pub(super) fn sampled_preset(
 pub(super) fn reference_curve(name: &str) -> Result<Curve> {
     preset("reference", json!({ "name": name }))
 }
+
+/// `base` with every field of `over` laid on it: a bench row's own
+/// overrides under the user's `--tuning`.
+pub(super) fn laid_over(
+    base: &TuningOverrides,
+    over: &serde_json::Map<String, serde_json::Value>,
+) -> Result<TuningOverrides> {
+    let serde_json::Value::Object(mut fields) = serde_json::to_value(base)? else {
+        anyhow::bail!("a tuning serialises to an object");
+    };
+    fields.extend(over.clone());
+    Ok(serde_json::from_value(serde_json::Value::Object(fields))?)
+}

@@ -21,7 +21,7 @@ use patchwork_core::inverse::{
 };
 
 use super::args::BenchArgs;
-use super::cases::{Setting, Suite, Target};
+use super::cases::{Setting, Suite, Target, laid_over};
 use super::row::{Row, Sample, median};
 use super::suite::suite;
 
@@ -91,7 +91,8 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
             threads: args.threads,
             ..UserSettings::default()
         };
-        let plan = Plan::resolve(settings, &setting.overrides())?;
+        let overrides = laid_over(&setting.overrides(), &args.overrides)?;
+        let plan = Plan::resolve(settings, &overrides)?;
         // Each run is timed as a fresh process would run it: with caches
         // of its own.
         let started = Instant::now();

@@ -25,17 +25,29 @@ mod users;
 mod users_goals;
 
 use anyhow::{Context, Result};
+use patchwork_core::inverse::{Plan, SettingsError, TuningOverrides, UserSettings};
+use serde_json::{Map, Value};
 
 pub use args::BenchArgs;
 use cases::Suite;
 use measure::measure_suite;
 use render::{plot, table};
 
+use super::input::json_argument;
 use super::output::emit;
 
-pub fn run(args: BenchArgs) -> Result<()> {
+pub fn run(mut args: BenchArgs) -> Result<()> {
     anyhow::ensure!(args.runs >= 1, "--runs must be at least 1");
     anyhow::ensure!(args.threads >= 1, "--threads must be at least 1");
+    if let Some(argument) = &args.tuning {
+        let given: TuningOverrides = json_argument("tuning", argument)?;
+        if let Err(SettingsError { field, reason }) = Plan::resolve(UserSettings::default(), &given)
+        {
+            let field = field.trim_start_matches("tuning.");
+            anyhow::bail!("--tuning: {field}: {reason}");
+        }
+        args.overrides = given_fields(&given)?;
+    }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     if let Some(table) = &args.replot {
@@ -86,6 +98,9 @@ fn command_line(args: &BenchArgs, chosen: Suite) -> String {
     if chosen == Suite::Report {
         command.push_str(&format!(" --report {}", args.report.display()));
     }
+    if let Some(tuning) = &args.tuning {
+        command.push_str(&format!(" --tuning '{tuning}'"));
+    }
     for (flag, values) in [("curves", &args.curves), ("settings", &args.settings)] {
         if !values.is_empty() {
             let list = values.join(",");
@@ -96,4 +111,12 @@ fn command_line(args: &BenchArgs, chosen: Suite) -> String {
         }
     }
     command
+}
+
+/// The fields `overrides` gives (those it leaves out are not serialised).
+fn given_fields(overrides: &TuningOverrides) -> Result<Map<String, Value>> {
+    match serde_json::to_value(overrides)? {
+        Value::Object(fields) => Ok(fields),
+        other => anyhow::bail!("--tuning: an object was expected, not {other}"),
+    }
 }

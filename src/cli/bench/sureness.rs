@@ -18,6 +18,7 @@ use patchwork_core::spread::MonteCarlo;
 use serde_json::json;
 
 use super::args::BenchArgs;
+use super::cases::laid_over;
 use super::measure::stage_clock;
 use super::row::{Row, median};
 
@@ -60,8 +61,9 @@ pub fn measure(args: &BenchArgs) -> Result<Vec<SureRow>> {
             threads: args.threads,
             ..UserSettings::default()
         };
-        let overrides: TuningOverrides =
+        let own: TuningOverrides =
             serde_json::from_value(json!({"robust": true, "monte_carlo": SAMPLES}))?;
+        let overrides = laid_over(&own, &args.overrides)?;
         let plan = Plan::resolve(settings, &overrides)?;
         let started = Instant::now();
         let robust_from = Cell::new(f64::NAN);
