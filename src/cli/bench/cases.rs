@@ -156,3 +156,24 @@ pub(super) fn laid_over(
     fields.extend(over.clone());
     Ok(serde_json::from_value(serde_json::Value::Object(fields))?)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_users_tuning_replaces_the_fields_it_gives_and_keeps_the_rows_others() {
+        let row = Setting::preset("draft", Fidelity::Draft).overrides();
+        let over = json!({"refine_budget": 0, "rod_search": false});
+        let laid = laid_over(&row, over.as_object().expect("an object")).expect("valid");
+        assert_eq!(laid.refine_budget, Some(0));
+        assert_eq!(laid.rod_search, Some(false));
+        assert_eq!(laid.trains, row.trains);
+        assert_eq!(laid.correction, row.correction);
+        assert_ne!(row.refine_budget, Some(0));
+        assert_eq!(
+            laid_over(&row, &serde_json::Map::new()).expect("valid"),
+            row
+        );
+    }
+}
