@@ -144,7 +144,7 @@ impl DesignFlags {
 }
 
 /// A settings error in the words of the command line: the flag that set it.
-fn flag_error(error: SettingsError) -> anyhow::Error {
+pub(super) fn flag_error(error: SettingsError) -> anyhow::Error {
     let SettingsError { field, reason } = error;
     let flag = match field.as_str() {
         "budget" | "threads" => field,

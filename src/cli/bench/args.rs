@@ -54,7 +54,7 @@ pub struct BenchArgs {
     /// machine.
     #[arg(long, value_name = "JSON")]
     pub tuning: Option<String>,
-    /// The fields `--tuning` gives, read once by the command.
+    /// `--tuning`, read once by the command (stdin cannot be read twice).
     #[arg(skip)]
-    pub overrides: serde_json::Map<String, serde_json::Value>,
+    pub overrides: patchwork_core::inverse::TuningOverrides,
 }

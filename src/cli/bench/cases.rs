@@ -144,17 +144,20 @@ pub(super) fn reference_curve(name: &str) -> Result<Curve> {
     preset("reference", json!({ "name": name }))
 }
 
-/// `base` with every field of `over` laid on it: a bench row's own
+/// `base` with every field `over` gives laid on it: a bench row's own
 /// overrides under the user's `--tuning`.
-pub(super) fn laid_over(
-    base: &TuningOverrides,
-    over: &serde_json::Map<String, serde_json::Value>,
-) -> Result<TuningOverrides> {
-    let serde_json::Value::Object(mut fields) = serde_json::to_value(base)? else {
-        anyhow::bail!("a tuning serialises to an object");
-    };
-    fields.extend(over.clone());
+pub(super) fn laid_over(base: &TuningOverrides, over: &TuningOverrides) -> Result<TuningOverrides> {
+    let mut fields = given_fields(base)?;
+    fields.extend(given_fields(over)?);
     Ok(serde_json::from_value(serde_json::Value::Object(fields))?)
+}
+
+/// The fields `overrides` gives (those it leaves out are not serialised).
+fn given_fields(overrides: &TuningOverrides) -> Result<serde_json::Map<String, serde_json::Value>> {
+    match serde_json::to_value(overrides)? {
+        serde_json::Value::Object(fields) => Ok(fields),
+        other => anyhow::bail!("a tuning serialises to an object, not {other}"),
+    }
 }
 
 #[cfg(test)]
@@ -164,15 +167,17 @@ mod tests {
     #[test]
     fn a_users_tuning_replaces_the_fields_it_gives_and_keeps_the_rows_others() {
         let row = Setting::preset("draft", Fidelity::Draft).overrides();
-        let over = json!({"refine_budget": 0, "rod_search": false});
-        let laid = laid_over(&row, over.as_object().expect("an object")).expect("valid");
+        let over: TuningOverrides =
+            serde_json::from_value(json!({"refine_budget": 0, "rod_search": false}))
+                .expect("valid");
+        let laid = laid_over(&row, &over).expect("valid");
         assert_eq!(laid.refine_budget, Some(0));
         assert_eq!(laid.rod_search, Some(false));
         assert_eq!(laid.trains, row.trains);
         assert_eq!(laid.correction, row.correction);
         assert_ne!(row.refine_budget, Some(0));
         assert_eq!(
-            laid_over(&row, &serde_json::Map::new()).expect("valid"),
+            laid_over(&row, &TuningOverrides::default()).expect("valid"),
             row
         );
     }

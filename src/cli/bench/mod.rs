@@ -25,14 +25,14 @@ mod users;
 mod users_goals;
 
 use anyhow::{Context, Result};
-use patchwork_core::inverse::{Plan, SettingsError, TuningOverrides, UserSettings};
-use serde_json::{Map, Value};
+use patchwork_core::inverse::{Plan, UserSettings};
 
 pub use args::BenchArgs;
 use cases::Suite;
 use measure::measure_suite;
 use render::{plot, table};
 
+use super::design_cmd::flag_error;
 use super::input::json_argument;
 use super::output::emit;
 
@@ -40,13 +40,8 @@ pub fn run(mut args: BenchArgs) -> Result<()> {
     anyhow::ensure!(args.runs >= 1, "--runs must be at least 1");
     anyhow::ensure!(args.threads >= 1, "--threads must be at least 1");
     if let Some(argument) = &args.tuning {
-        let given: TuningOverrides = json_argument("tuning", argument)?;
-        if let Err(SettingsError { field, reason }) = Plan::resolve(UserSettings::default(), &given)
-        {
-            let field = field.trim_start_matches("tuning.");
-            anyhow::bail!("--tuning: {field}: {reason}");
-        }
-        args.overrides = given_fields(&given)?;
+        args.overrides = json_argument("tuning", argument)?;
+        Plan::resolve(UserSettings::default(), &args.overrides).map_err(flag_error)?;
     }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
@@ -111,12 +106,4 @@ fn command_line(args: &BenchArgs, chosen: Suite) -> String {
         }
     }
     command
-}
-
-/// The fields `overrides` gives (those it leaves out are not serialised).
-fn given_fields(overrides: &TuningOverrides) -> Result<Map<String, Value>> {
-    match serde_json::to_value(overrides)? {
-        Value::Object(fields) => Ok(fields),
-        other => anyhow::bail!("--tuning: an object was expected, not {other}"),
-    }
 }
