@@ -9,7 +9,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use patchwork_core::curve::ReferenceCurve;
-use patchwork_core::design::{Design, Patch};
+use patchwork_core::design::Design;
+use patchwork_core::design::scenes::long_balloon;
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
 use patchwork_core::ksa::{KsaParams, ksa};
@@ -39,29 +40,6 @@ pub struct LongRow {
     pub iterations: usize,
     pub continuation_steps: usize,
     pub ms: f64,
-}
-
-/// A 1000 mm balloon (the reference tube lengthened) with 30 patches of
-/// 15 × 2 mm every 32 mm, their X and Θ spread over the tube by golden-ratio
-/// sequences, rounded to 0.001 mm and degree: about 3.1 m long inflated,
-/// the design that `docs/studies.md` writes as JSON with a one-line script.
-pub fn long_balloon() -> Design {
-    let thousandths = |v: f64| (v * 1e3).round() / 1e3;
-    let patches = (0..30)
-        .map(|i| {
-            let i = i as f64;
-            Patch {
-                x_mm: thousandths(20.0 * (i * 0.618034).fract()),
-                y_mm: 16.0 + 32.0 * i,
-                h_mm: 15.0,
-                w_mm: 2.0,
-                theta_deg: thousandths(60.0 * (i * 0.381966 + 0.1).fract() - 30.0),
-            }
-        })
-        .collect();
-    let mut design = Design::reference(patches);
-    design.balloon.length_mm = 1000.0;
-    design
 }
 
 /// The meshes a user meets: the default of `simulate` and of every
@@ -178,14 +156,17 @@ pub fn section(forward: &Forward) -> String {
          is decided (under patches) and coarse between.\n"
     ));
     let long = &forward.long;
+    let route = match long.continuation_steps {
+        0 | 1 => "converged from its starts".to_string(),
+        n => format!("{n} continuation steps"),
+    };
     out.push_str(&format!(
         "\nA long balloon, 1 m uninflated with 30 patches (`long_balloon` in \
-         src/cli/bench/forward.rs; docs/studies.md writes it as design JSON), \
-         solved cold on the default mesh, one thread, once: {:.1} s, {} Newton \
-         iterations, {} continuation steps, {:.0} mm long inflated.\n",
+         crates/patchwork-core/src/design/scenes.rs; docs/studies.md writes it as \
+         design JSON), solved cold on the default mesh, one thread, once: {:.1} s, \
+         {} Newton iterations, {route}, {:.0} mm long inflated.\n",
         long.ms / 1e3,
         long.iterations,
-        long.continuation_steps,
         long.inflated_mm
     ));
     out

@@ -3,6 +3,7 @@
 
 mod patch;
 pub mod random;
+pub mod scenes;
 mod validate;
 
 use serde::{Deserialize, Serialize};

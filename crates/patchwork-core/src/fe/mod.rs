@@ -15,6 +15,7 @@ mod assembly;
 mod carry;
 pub mod centreline;
 pub mod contact;
+mod continuation;
 pub mod element;
 pub mod export;
 pub mod grading;

@@ -5,10 +5,13 @@ use std::time::{Duration, Instant};
 
 use super::carry::carried_state;
 use super::centreline::{Ring, rings};
+use super::continuation::{continuation, initial_state};
 use super::kinematic::{calibrated_scale, kinematic_state};
 use super::mesh::{MeshSpec, TubeMesh};
 use super::model::Model;
-use super::newton::{NewtonOptions, PatternCache, SolveError, SolveStats, Solver};
+use super::newton::{
+    COLD_SHIFT_FLOOR, NewtonOptions, PatternCache, SolveError, SolveStats, Solver,
+};
 use super::section::CutElements;
 use super::tube_theory::{TubeState, inflate_tube};
 use crate::curve::{AnalysisOptions, Curve, Point, analyse};
@@ -103,6 +106,9 @@ pub struct Simulation {
     pub axial_stretch_mid: f64,
     /// The closed-form bare-tube state used as the start.
     pub tube_state: TubeState,
+    /// Solves that reached the design: 1 when Newton converged from a
+    /// start (a neighbour's state, the coarse model's or the kinematic
+    /// estimate), more when continuation in patch stiffness took over.
     pub continuation_steps: usize,
     pub volume_mm3: f64,
     pub elapsed: Duration,
@@ -208,21 +214,19 @@ pub fn simulate_with(
         })
     })
     .flatten();
-    // Each solve gets its own limit, or what is left of the whole
-    // simulation's when that is less.
-    let left = || NewtonOptions {
-        time_limit: options
-            .time_limit
-            .map_or(options.newton.time_limit, |total| {
-                total
-                    .saturating_sub(started.elapsed())
-                    .min(options.newton.time_limit)
-            }),
-        ..options.newton
+    let left = || time_left(options, started);
+    // A cold solve's starts cross a long tube's soft modes with a lower
+    // shift floor; continuation, and warm starts, keep the options' own.
+    let start = || NewtonOptions {
+        shift_floor: match previous {
+            None => options.newton.shift_floor.min(COLD_SHIFT_FLOOR),
+            Some(_) => options.newton.shift_floor,
+        },
+        ..left()
     };
     let solved = warm.into_iter().chain(kinematic).find_map(|mut x| {
         let s = solver
-            .solve(&model, &model.sections, &mut x, &left())
+            .solve(&model, &model.sections, &mut x, &start())
             .ok()?;
         Some((x, s))
     });
@@ -231,8 +235,25 @@ pub fn simulate_with(
         return finish(design, options, model, x, tube_state, stats, 1, started);
     }
     let mut x = initial_state(&model.mesh, tube_state);
-    let steps = continuation(design, options, &model, &solver, &mut x, &left, &mut stats)?;
+    let min_step = options.min_continuation_step;
+    let steps = continuation(design, min_step, &model, &solver, &mut x, &left, &mut stats)
+        .map_err(|(stiffness, reason)| SimulateError::Solve { stiffness, reason })?;
     finish(design, options, model, x, tube_state, stats, steps, started)
+}
+
+/// The options of one solve of a simulation started at `started`: its own
+/// time limit, or what is left of the whole simulation's when that is less.
+fn time_left(options: &SimulateOptions, started: Instant) -> NewtonOptions {
+    NewtonOptions {
+        time_limit: options
+            .time_limit
+            .map_or(options.newton.time_limit, |total| {
+                total
+                    .saturating_sub(started.elapsed())
+                    .min(options.newton.time_limit)
+            }),
+        ..options.newton
+    }
 }
 
 /// The design's and the options' checks before any solve.
@@ -260,53 +281,6 @@ fn check(design: &Design, options: &SimulateOptions) -> Result<(), SimulateError
         )));
     }
     Ok(())
-}
-
-/// Continuation in patch stiffness from the straight tube `x` to the
-/// design: steps doubled after easy solves, halved after failed ones down to
-/// `min_continuation_step`. Returns the steps taken; `stats` gathers them.
-fn continuation(
-    design: &Design,
-    options: &SimulateOptions,
-    model: &Model,
-    solver: &Solver,
-    x: &mut Vec<Point>,
-    left: &impl Fn() -> NewtonOptions,
-    stats: &mut SolveStats,
-) -> Result<usize, SimulateError> {
-    let (mut done, mut step, mut steps) = (0.0_f64, 1.0_f64, 0);
-    while done < 1.0 {
-        let target = (done + step).min(1.0);
-        let sections = model.sections_at(design, target);
-        let mut trial = x.clone();
-        match solver.solve(model, &sections, &mut trial, &left()) {
-            Ok(s) => {
-                steps += 1;
-                stats.accumulate(&s);
-                *x = trial;
-                done = target;
-                if s.iterations < 8 {
-                    step *= 2.0;
-                }
-            }
-            Err(reason) => {
-                step /= 2.0;
-                // Retrying a smaller step cannot help once time is up or the
-                // start itself is outside the materials' domain.
-                let hopeless = matches!(
-                    reason,
-                    SolveError::TimeLimit { .. } | SolveError::InadmissibleStart
-                );
-                if step < options.min_continuation_step || hopeless {
-                    return Err(SimulateError::Solve {
-                        stiffness: target,
-                        reason,
-                    });
-                }
-            }
-        }
-    }
-    Ok(steps)
 }
 
 /// The converged state of the next coarser model (see
@@ -369,35 +343,4 @@ fn finish(
         stats,
         patch_share,
     })
-}
-
-/// The bare tube's uniform state mapped onto the mesh, shaped so every element
-/// starts inside its material's domain:
-/// - tube nodes at radius r(Y)·λ-blend and height λ₂Y, where the hoop stretch
-///   rises from 1 at the clamped base as 1 + (λ₁ − 1)(1 − e^(−Y/R₀)) — an abrupt
-///   step there would stretch the first elements past a Gent locking limit;
-/// - cap nodes at polar angle φ (0 at the rim) with hoop stretch falling from λ₁
-///   at the rim to 1 at the pole, above the stretched tube — a cap inflated
-///   equibiaxially by λ₁ would be far stiffer than the real one.
-fn initial_state(mesh: &TubeMesh, state: TubeState) -> Vec<Point> {
-    let tube_nodes = mesh.ring_y.len() * mesh.around;
-    let r0 = mesh.radius;
-    let top = mesh.length * state.axial;
-    mesh.nodes
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            if mesh.fixed[i] {
-                *p
-            } else if i < tube_nodes {
-                let hoop = 1.0 + (state.hoop - 1.0) * (1.0 - (-p.z / r0).exp());
-                Point::new(p.x * hoop, p.y * hoop, p.z * state.axial)
-            } else {
-                let height = p.z - mesh.length;
-                let rim_fraction = (1.0 - (height / r0).clamp(0.0, 1.0).powi(2)).sqrt();
-                let hoop = 1.0 + (state.hoop - 1.0) * rim_fraction;
-                Point::new(p.x * hoop, p.y * hoop, top + height * state.hoop.sqrt())
-            }
-        })
-        .collect()
 }

@@ -160,7 +160,7 @@ impl<P: Potential> Newton<'_, '_, P> {
                 used.map_err(|shift| SolveError::Factorisation { shift, residual })?
             }
         };
-        self.shift = decayed(used_shift, here.stiffness);
+        self.shift = decayed(used_shift, here.stiffness, self.options.shift_floor);
         let mut step: Vec<f64> = here.gradient.iter().map(|g| -g).collect();
         timed(&mut self.stats.substitution_time, || {
             self.factor.solve_in_place(&mut step)

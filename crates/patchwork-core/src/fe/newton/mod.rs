@@ -34,7 +34,7 @@ mod solver;
 mod stopping;
 mod timing;
 
-pub use options::{NewtonOptions, Steps};
+pub use options::{COLD_SHIFT_FLOOR, NewtonOptions, Steps};
 pub use outcome::{SolveError, SolveStats};
 pub use patterns::PatternCache;
 pub use potential::{Linearisation, ModelPotential, Potential, norm};

@@ -2,6 +2,8 @@
 
 use std::time::Duration;
 
+use super::shift::SMALLEST_SHIFT;
+
 /// Limits and tolerances of one solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NewtonOptions {
@@ -24,7 +26,22 @@ pub struct NewtonOptions {
     pub definiteness_guard: bool,
     /// How a step's end is found from the Newton direction.
     pub steps: Steps,
+    /// The smallest Levenberg shift (relative to the mean tangent entry)
+    /// before a decaying shift becomes zero (`shift.rs`). A lower floor lets
+    /// a long tube's slightly concave soft modes be crossed in a few
+    /// iterations, where a shift climbing back from zero would creep along
+    /// them; on a nearly bare tube's convex soft modes it lets steps run
+    /// tens of millimetres. `simulate` takes [`COLD_SHIFT_FLOOR`] for its
+    /// cold starts and this for the rest.
+    pub shift_floor: f64,
 }
+
+/// The shift floor of a cold solve's starts (the kinematic estimate and the
+/// coarse model's state): a 1 m balloon with 30 patches converges in 95
+/// Newton iterations where the default floor takes 239 and three
+/// continuation steps (docs/studies.md, "A 1 m, 30-patch balloon's cold
+/// solve").
+pub const COLD_SHIFT_FLOOR: f64 = 1e-10;
 
 /// How a Newton step moves the tube's nodes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -51,6 +68,7 @@ impl Default for NewtonOptions {
             time_limit: Duration::from_secs(60),
             definiteness_guard: true,
             steps: Steps::Linear,
+            shift_floor: SMALLEST_SHIFT,
         }
     }
 }

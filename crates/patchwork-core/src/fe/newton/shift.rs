@@ -14,8 +14,9 @@ use super::super::tangent_factor::TangentFactor;
 const FIRST_SHIFT: f64 = 1e-4;
 
 /// A decayed shift below this (relative to the mean tangent entry) becomes
-/// zero: plain Newton is tried again.
-const SMALLEST_SHIFT: f64 = 1e-6;
+/// zero: plain Newton is tried again. The default of
+/// `NewtonOptions::shift_floor`.
+pub const SMALLEST_SHIFT: f64 = 1e-6;
 
 /// Shifts tried before a factorisation is given up.
 const MAX_SHIFT_ATTEMPTS: usize = 40;
@@ -54,9 +55,10 @@ pub fn factor_with_shift(
 }
 
 /// The shift the next iteration starts from after a step taken with `used`:
-/// a tenth of it, or zero (plain Newton) once that is negligible.
-pub fn decayed(used: f64, stiffness: f64) -> f64 {
-    if used / 10.0 > SMALLEST_SHIFT * stiffness {
+/// a tenth of it, or zero (plain Newton) once that is below `floor` times
+/// `stiffness`.
+pub fn decayed(used: f64, stiffness: f64, floor: f64) -> f64 {
+    if used / 10.0 > floor * stiffness {
         used / 10.0
     } else {
         0.0
@@ -107,8 +109,9 @@ mod tests {
 
     #[test]
     fn the_shift_decays_tenfold_then_to_zero() {
-        assert_eq!(decayed(1.0, 1.0), 0.1);
-        assert_eq!(decayed(5e-6, 1.0), 0.0);
-        assert_eq!(decayed(0.0, 1.0), 0.0);
+        assert_eq!(decayed(1.0, 1.0, SMALLEST_SHIFT), 0.1);
+        assert_eq!(decayed(5e-6, 1.0, SMALLEST_SHIFT), 0.0);
+        assert!((decayed(5e-6, 1.0, 1e-10) - 5e-7).abs() < 1e-18);
+        assert_eq!(decayed(0.0, 1.0, SMALLEST_SHIFT), 0.0);
     }
 }
