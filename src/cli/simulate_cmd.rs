@@ -110,11 +110,11 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     }
     let tip = sim.centreline.points().last().copied().unwrap_or_default();
     let text = format!(
-        "converged   {} Newton iterations, {} continuation steps, {:.0} ms ({})\n\
+        "converged   {} Newton iterations, {}, {:.0} ms ({})\n\
          inflated    length {:.1} mm, mid-tube hoop stretch {:.3}, axial stretch {:.3}\n\
          tip         ({:.1}, {:.1}, {:.1}) mm; max curvature {:.4} mm⁻¹\n",
         sim.stats.iterations,
-        sim.continuation_steps,
+        sim.route(),
         report.elapsed_ms,
         if sim.stats.stable {
             "stable"

@@ -38,7 +38,8 @@ pub struct Forward {
 pub struct LongRow {
     pub inflated_mm: f64,
     pub iterations: usize,
-    pub continuation_steps: usize,
+    /// How the solve reached the design (`Simulation::route`).
+    pub route: String,
     pub ms: f64,
 }
 
@@ -66,7 +67,7 @@ pub fn measure() -> Result<Forward> {
     let long = LongRow {
         inflated_mm: long.inflated_length_mm,
         iterations: long.stats.iterations,
-        continuation_steps: long.continuation_steps,
+        route: long.route(),
         ms,
     };
     Ok(Forward { meshes: rows, long })
@@ -156,17 +157,14 @@ pub fn section(forward: &Forward) -> String {
          is decided (under patches) and coarse between.\n"
     ));
     let long = &forward.long;
-    let route = match long.continuation_steps {
-        0 | 1 => "converged from its starts".to_string(),
-        n => format!("{n} continuation steps"),
-    };
     out.push_str(&format!(
         "\nA long balloon, 1 m uninflated with 30 patches (`long_balloon` in \
          crates/patchwork-core/src/design/scenes.rs; docs/studies.md writes it as \
          design JSON), solved cold on the default mesh, one thread, once: {:.1} s, \
-         {} Newton iterations, {route}, {:.0} mm long inflated.\n",
+         {} Newton iterations, {}, {:.0} mm long inflated.\n",
         long.ms / 1e3,
         long.iterations,
+        long.route,
         long.inflated_mm
     ));
     out

@@ -135,6 +135,15 @@ impl Simulation {
         let pole = self.positions.last()?;
         Some((pole - last).dot(&(last - before).normalize()))
     }
+
+    /// How the solve reached the design, in words: "no continuation" (Newton
+    /// converged from a start), or "N continuation steps" in patch stiffness.
+    pub fn route(&self) -> String {
+        match self.continuation_steps {
+            0 | 1 => "no continuation".to_string(),
+            n => format!("{n} continuation steps"),
+        }
+    }
 }
 
 /// The most mesh nodes one solve may use: a solve takes about 8 KB of
