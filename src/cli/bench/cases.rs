@@ -145,19 +145,16 @@ pub(super) fn reference_curve(name: &str) -> Result<Curve> {
 }
 
 /// `base` with every field `over` gives laid on it: a bench row's own
-/// overrides under the user's `--tuning`.
+/// overrides under the user's `--tuning` (a field left out is not
+/// serialised, so the objects' union is the merge).
 pub(super) fn laid_over(base: &TuningOverrides, over: &TuningOverrides) -> Result<TuningOverrides> {
-    let mut fields = given_fields(base)?;
-    fields.extend(given_fields(over)?);
-    Ok(serde_json::from_value(serde_json::Value::Object(fields))?)
-}
-
-/// The fields `overrides` gives (those it leaves out are not serialised).
-fn given_fields(overrides: &TuningOverrides) -> Result<serde_json::Map<String, serde_json::Value>> {
-    match serde_json::to_value(overrides)? {
-        serde_json::Value::Object(fields) => Ok(fields),
-        other => anyhow::bail!("a tuning serialises to an object, not {other}"),
+    let mut laid = serde_json::to_value(base)?;
+    if let (Some(fields), serde_json::Value::Object(given)) =
+        (laid.as_object_mut(), serde_json::to_value(over)?)
+    {
+        fields.extend(given);
     }
+    Ok(serde_json::from_value(laid)?)
 }
 
 #[cfg(test)]

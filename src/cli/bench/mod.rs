@@ -39,10 +39,7 @@ use super::output::emit;
 pub fn run(mut args: BenchArgs) -> Result<()> {
     anyhow::ensure!(args.runs >= 1, "--runs must be at least 1");
     anyhow::ensure!(args.threads >= 1, "--threads must be at least 1");
-    if let Some(argument) = &args.tuning {
-        args.overrides = json_argument("tuning", argument)?;
-        Plan::resolve(UserSettings::default(), &args.overrides).map_err(flag_error)?;
-    }
+    read_tuning(&mut args)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     if let Some(table) = &args.replot {
@@ -52,7 +49,7 @@ pub fn run(mut args: BenchArgs) -> Result<()> {
         return Ok(std::fs::write(args.out.join("bench.svg"), plot(&rows))?);
     }
     let chosen = if args.quick { Suite::Quick } else { args.suite };
-    let command = command_line(&args, chosen);
+    let command = command_line(&args, chosen)?;
     if chosen == Suite::Report {
         return report::run(&args, &command);
     }
@@ -73,8 +70,18 @@ pub fn run(mut args: BenchArgs) -> Result<()> {
     emit(&table)
 }
 
+/// Reads `--tuning` (inline, a file or stdin) into `args.overrides` once,
+/// refusing a bad field before anything runs.
+fn read_tuning(args: &mut BenchArgs) -> Result<()> {
+    if let Some(argument) = &args.tuning {
+        args.overrides = json_argument("tuning", argument)?;
+        Plan::resolve(UserSettings::default(), &args.overrides).map_err(flag_error)?;
+    }
+    Ok(())
+}
+
 /// The command that reproduces this run.
-fn command_line(args: &BenchArgs, chosen: Suite) -> String {
+fn command_line(args: &BenchArgs, chosen: Suite) -> Result<String> {
     let suite = match chosen {
         Suite::Quick => " --quick",
         Suite::Reference => "",
@@ -93,7 +100,10 @@ fn command_line(args: &BenchArgs, chosen: Suite) -> String {
     if chosen == Suite::Report {
         command.push_str(&format!(" --report {}", args.report.display()));
     }
-    if let Some(tuning) = &args.tuning {
+    // The tuning as read, not as given: a file's path or `-` (stdin) would
+    // not reproduce the run.
+    if args.tuning.is_some() {
+        let tuning = serde_json::to_string(&args.overrides)?;
         command.push_str(&format!(" --tuning '{tuning}'"));
     }
     for (flag, values) in [("curves", &args.curves), ("settings", &args.settings)] {
@@ -105,5 +115,33 @@ fn command_line(args: &BenchArgs, chosen: Suite) -> String {
             }
         }
     }
-    command
+    Ok(command)
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    #[derive(Parser)]
+    struct Command {
+        #[command(flatten)]
+        bench: BenchArgs,
+    }
+
+    #[test]
+    fn the_reproduce_command_carries_the_tuning_as_read() {
+        let tuning = std::env::temp_dir().join("patchwork-bench-tuning.json");
+        std::fs::write(&tuning, r#"{ "rod_search": false }"#).expect("writable");
+        let path = tuning.to_str().expect("a UTF-8 path");
+        let mut args = Command::parse_from(["bench", "--quick", "--tuning", path]).bench;
+        read_tuning(&mut args).expect("valid");
+        let command = command_line(&args, Suite::Quick).expect("serialisable");
+        assert!(
+            command.contains(r#" --tuning '{"rod_search":false}'"#),
+            "{command}"
+        );
+        assert!(!command.contains(path), "{command}");
+    }
 }
