@@ -25,7 +25,7 @@ fn spread_names_what_matters_most_and_refuses_bad_tolerances() {
     );
     assert!(stdout.contains("matters most: P1 "), "{stdout}");
     // The count printed: the nominal design, one linearisation of all
-    // fifteen sources, and each source solved in full (the large ones).
+    // fifteen sources, and each large source solved in full both ways.
     let same = json(&patchwork_with_stdin(
         &["spread", "-", "--json", "--tolerances", PATCHES_ONLY],
         DESIGN,
@@ -34,12 +34,16 @@ fn spread_names_what_matters_most_and_refuses_bad_tolerances() {
         .as_array()
         .unwrap()
         .iter()
-        .filter(|c| c["estimate"] == "solved")
+        .filter(|c| c["estimate"] == "both_ways")
         .count();
     assert!((1..15).contains(&solved), "{same}");
-    assert_eq!(same["solves"].as_u64(), Some(2 + solved as u64), "{same}");
+    assert_eq!(
+        same["solves"].as_u64(),
+        Some(2 + 2 * solved as u64),
+        "{same}"
+    );
     assert!(
-        stdout.contains(&format!("{} FE solves", 2 + solved)),
+        stdout.contains(&format!("{} FE solves", 2 + 2 * solved)),
         "{stdout}"
     );
     // With every source: the balloon's three join the patches' fifteen.
@@ -49,11 +53,16 @@ fn spread_names_what_matters_most_and_refuses_bad_tolerances() {
     ));
     let contributors = all["contributors"].as_array().unwrap();
     assert_eq!(contributors.len(), 18);
-    let squares: f64 = contributors
+    // In quadrature, each source's mean move taken out and their sum put
+    // back (design.json's `mean_shift_mm`).
+    let f = |v: &serde_json::Value, key: &str| v[key].as_f64().unwrap();
+    let scatter: f64 = contributors
         .iter()
-        .map(|c| c["rms_mm"].as_f64().unwrap().powi(2))
+        .map(|c| f(c, "rms_mm").powi(2) - f(c, "shift_mm").powi(2))
         .sum();
-    assert!((all["rms_mm"].as_f64().unwrap() - squares.sqrt()).abs() < 1e-9);
+    let together = (scatter + f(&all, "mean_shift_mm").powi(2)).sqrt();
+    assert!((f(&all, "rms_mm") - together).abs() < 1e-9, "{all}");
+    assert!(f(&all, "mean_shift_mm") > 0.0, "{all}");
     assert!(contributors.iter().any(|c| c["source"] == "pressure"));
     assert!(
         all.get("expected_shape_error_percent").is_none(),
@@ -104,8 +113,10 @@ fn spread_names_what_matters_most_and_refuses_bad_tolerances() {
         "{stdout}"
     );
     assert!(stdout.contains("× the linear estimate"), "{stdout}");
-    // The nominal, the linearisation, the one source solved, 12 samples.
-    assert!(stdout.contains("15 FE solves"), "{stdout}");
+    // The nominal, the linearisation, the one source solved both ways, 12
+    // samples; its mean move printed.
+    assert!(stdout.contains("16 FE solves"), "{stdout}");
+    assert!(stdout.contains("on average:   "), "{stdout}");
     assert_one_line_error(
         &patchwork_with_stdin(&["spread", "-", "--monte-carlo", "1"], DESIGN),
         "--monte-carlo",

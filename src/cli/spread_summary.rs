@@ -11,6 +11,13 @@ pub fn summary(s: &Spread, top: usize) -> String {
          tip:          {:.2} mm RMS from its predicted place, at worst {:.2} mm\n",
         s.rms_mm, s.rms_percent, s.worst_mm, s.solves, s.tip_rms_mm, s.tip_worst_mm
     );
+    if s.mean_shift_mm > 0.0 {
+        text += &format!(
+            "on average:   {:.2} mm RMS from the predicted centreline (of the spread, the part \
+             that is an offset rather than scatter)\n",
+            s.mean_shift_mm
+        );
+    }
     if let (Some(nominal), Some(expected)) = (
         s.nominal_shape_error_percent,
         s.expected_shape_error_percent,

@@ -75,10 +75,11 @@ function spread(result) {
   if (!s) return result.spread_failed ? [["spread at the tolerances", `not found: ${result.spread_failed}`]] : [];
   const expected = s.expected_shape_error_percent === undefined ? ""
     : `; expected shape error as built ${num(s.expected_shape_error_percent, 3)} %`;
+  const offset = s.mean_shift_mm > 0 ? `; on average ${num(s.mean_shift_mm, 3)} mm RMS from the predicted centreline` : "";
   const top = s.contributors.slice(0, 3).map((c) =>
     `${c.label} ±${c.tolerance}${c.unit === "°" ? "" : " "}${c.unit}: ${num(c.rms_mm, 3)} mm RMS, tip ${num(c.tip_mm, 3)} mm`);
   return [
-    ["spread at the tolerances", `${num(s.rms_mm, 3)} mm RMS (${num(s.rms_percent, 3)} % of the length), at worst ${num(s.worst_mm, 3)} mm; tip ${num(s.tip_rms_mm, 3)} mm RMS${expected}`],
+    ["spread at the tolerances", `${num(s.rms_mm, 3)} mm RMS (${num(s.rms_percent, 3)} % of the length), at worst ${num(s.worst_mm, 3)} mm; tip ${num(s.tip_rms_mm, 3)} mm RMS${offset}${expected}`],
     ...monteCarlo(s.monte_carlo),
     ["matters most", top.join("; ")],
     ...robust(result),

@@ -22,7 +22,7 @@ const STAGES = {
   refine: "refine: Levenberg–Marquardt on the shape error",
   layout: "layout: patches added where the curve bends gently, or taken out",
   final_refine: "final refine: the refine on the finest model",
-  spread: "spread: the design at the tolerances, each source linearised, the large ones solved",
+  spread: "spread: the design at the tolerances, each source linearised, the large ones solved both ways",
   robust: "robust: the design refined for the error expected at the tolerances",
   calibrate: "calibrate: the material fitted to the measurements",
 };

@@ -26,6 +26,7 @@ pub mod model;
 pub mod newton;
 pub mod overlap;
 pub mod pressure;
+mod reflect;
 pub mod ring_step;
 pub mod section;
 pub mod sensitivity;
@@ -34,6 +35,7 @@ mod tangent_factor;
 pub mod tube_theory;
 pub mod volume_control;
 
+pub use reflect::reflected_start;
 pub use simulate::{
     SimulateError, SimulateOptions, Simulation, simulate, simulate_from, simulate_with,
 };

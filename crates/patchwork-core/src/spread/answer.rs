@@ -21,6 +21,11 @@ pub struct Contributor {
     pub rms_mm: f64,
     /// How far the tip moves at the tolerance, in the clamp's frame (mm).
     pub tip_mm: f64,
+    /// The RMS of the centreline's mean move under this source alone (mm;
+    /// 0 unless solved both ways): the response's even part, which moves
+    /// the expected centreline off the nominal one.
+    #[serde(default)]
+    pub shift_mm: f64,
     /// How the change was found (a result written before this field: solved).
     #[serde(default)]
     pub estimate: Estimate,
@@ -36,6 +41,9 @@ pub enum Estimate {
     /// The linearised response at the nominal state (a source under
     /// `SOLVED_FRACTION` of the largest).
     Linearised,
+    /// Newton solves at +tolerance and at −tolerance: the change's odd and
+    /// even parts (`change.rs`).
+    BothWays,
 }
 
 /// What the samples found.
@@ -60,7 +68,8 @@ pub struct MonteCarlo {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Spread {
     /// RMS of the centreline's change from the nominal, all sources
-    /// together (in quadrature), mm and % of the length.
+    /// together (in quadrature, plus the sources' mean moves added as
+    /// vectors), mm and % of the length.
     pub rms_mm: f64,
     pub rms_percent: f64,
     /// Every source at its tolerance the worst way (their changes added in
@@ -77,9 +86,14 @@ pub struct Spread {
     pub nominal_shape_error_percent: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub expected_shape_error_percent: Option<f64>,
+    /// The RMS distance (mm) of the expected centreline from the nominal:
+    /// the sources' mean moves added up (the part of `rms_mm` that is not
+    /// scatter about the expected shape, but an offset of it).
+    #[serde(default)]
+    pub mean_shift_mm: f64,
     /// Every source, the largest share first.
     pub contributors: Vec<Contributor>,
-    /// FE solves taken: one per source solved, one for the linearised
+    /// FE solves taken: one or two per source solved, one for the linearised
     /// responses of all (a factorisation of the nominal's tangent), and the
     /// nominal where it was solved for the spread (not in a design run,
     /// which has it).

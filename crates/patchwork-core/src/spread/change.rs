@@ -1,7 +1,7 @@
 //! What the spread and its check compare: a design and its converged state,
 //! and how far another centreline lies from it.
 
-use crate::curve::{AlignedSamples, Curve};
+use crate::curve::{AlignedSamples, Curve, Point};
 use crate::design::Design;
 use crate::fe::newton::NewtonOptions;
 use crate::fe::newton::PatternCache;
@@ -10,12 +10,62 @@ use crate::fe::{SimulateOptions, Simulation};
 /// Samples of the centreline compared.
 pub const SAMPLES: usize = 64;
 
-/// One source's change: the centreline's samples (mm, aligned) and the tip.
+/// One source's change: the expected squares of the moves of the
+/// centreline's samples (mm², aligned) and of the tip's, with the moves'
+/// mean where the source was solved both ways.
+///
+/// Solved at +δ and −δ (moves d₊, d₋ at a sample), the response is read as
+/// d(t) = a t + b t² with t = x/δ, a = (d₊ − d₋)/2, b = (d₊ + d₋)/2. For
+/// x ~ N(0, δ²): E[d] = b and E|d|² = |a|² + 3|b|² (E t² = 1, E t³ = 0,
+/// E t⁴ = 3). Solved one way, or linearised, the move d itself stands for
+/// both: E|d|² = |d|² and no mean.
 pub struct Change {
-    /// Σ|dᵢ|² over the samples (mm²), and each |dᵢ|².
+    /// Σᵢ E|dᵢ|² over the samples (mm²), and each E|dᵢ|².
     pub samples_sq: f64,
     pub each_sq: Vec<f64>,
+    /// √E|d|² of the tip's move (in the clamp's frame).
     pub tip_mm: f64,
+    /// E[dᵢ] at each sample (empty: none), and the tip's.
+    pub shift: Vec<Point>,
+    pub tip_shift: Point,
+}
+
+/// A moved centreline's offsets from the nominal: at each sample after
+/// the best rigid alignment, and the tip's in the clamp's frame.
+pub struct Offsets {
+    pub residuals: Vec<Point>,
+    pub tip: Point,
+}
+
+impl Change {
+    /// The change of a source solved (or linearised) one way only.
+    pub fn one_way(moved: &Offsets) -> Change {
+        let each_sq: Vec<f64> = moved.residuals.iter().map(|r| r.norm_squared()).collect();
+        Change {
+            samples_sq: each_sq.iter().sum(),
+            each_sq,
+            tip_mm: moved.tip.norm(),
+            shift: Vec::new(),
+            tip_shift: Point::zeros(),
+        }
+    }
+
+    /// The change of a source solved at +δ (`plus`) and at −δ (`minus`).
+    pub fn both_ways(plus: &Offsets, minus: &Offsets) -> Change {
+        let expected_sq = |p: &Point, m: &Point| {
+            let (odd, even) = ((p - m) / 2.0, (p + m) / 2.0);
+            odd.norm_squared() + 3.0 * even.norm_squared()
+        };
+        let pairs = || plus.residuals.iter().zip(&minus.residuals);
+        let each_sq: Vec<f64> = pairs().map(|(p, m)| expected_sq(p, m)).collect();
+        Change {
+            samples_sq: each_sq.iter().sum(),
+            each_sq,
+            tip_mm: expected_sq(&plus.tip, &minus.tip).sqrt(),
+            shift: pairs().map(|(p, m)| (p + m) / 2.0).collect(),
+            tip_shift: (plus.tip + minus.tip) / 2.0,
+        }
+    }
 }
 
 /// A design and its converged state under `options`, and the tangent
@@ -59,18 +109,22 @@ impl Nominal<'_> {
     }
 }
 
-/// How `moved` differs from `nominal`: Σ|dᵢ|² over the nominal's samples
-/// after the best rigid alignment, and the tip's move unaligned.
-pub fn change_of(moved: &Curve, nominal: &Curve, samples: &Curve) -> Result<Change, String> {
+/// How `moved` differs from `nominal`: its [`Offsets`] at the nominal's
+/// samples.
+pub fn offsets_of(moved: &Curve, nominal: &Curve, samples: &Curve) -> Result<Offsets, String> {
     let aligned = AlignedSamples::new(moved, samples).map_err(|e| e.to_string())?;
-    let each_sq: Vec<f64> = aligned.residuals.iter().map(|r| r.norm_squared()).collect();
     let tip = |c: &Curve| c.points().last().copied();
     let (Some(moved), Some(home)) = (tip(moved), tip(nominal)) else {
         return Err("no centreline".into());
     };
-    Ok(Change {
-        samples_sq: each_sq.iter().sum(),
-        each_sq,
-        tip_mm: (moved - home).norm(),
+    Ok(Offsets {
+        residuals: aligned.residuals,
+        tip: moved - home,
     })
+}
+
+/// `moved`'s change from `nominal` as one way's: Σ|dᵢ|² over the nominal's
+/// samples after the best rigid alignment, and the tip's move unaligned.
+pub fn change_of(moved: &Curve, nominal: &Curve, samples: &Curve) -> Result<Change, String> {
+    offsets_of(moved, nominal, samples).map(|o| Change::one_way(&o))
 }

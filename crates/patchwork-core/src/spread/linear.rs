@@ -1,44 +1,60 @@
 //! The linear spread: each source's change of the centreline at its
-//! tolerance. Every source is first linearised at the nominal state
-//! (`fe::sensitivity`: one factorisation of the tangent, a substitution per
-//! source); those whose linearised change is at least [`SOLVED_FRACTION`]
-//! of the largest change found are then solved — a Newton solve warm-started
-//! from the nominal state, to a relative residual of `SOURCE_TOLERANCE` (a
-//! secant) — and the largest is taken again from the solved, until every
-//! source above the fraction is solved. The linearised response alone
-//! misjudges the large sources: it overstates a patch's placement around
-//! the tube up to sixfold and its angle up to twofold (the tube's soft
-//! twist answering a first-order force that its geometric stiffening holds
-//! back), and understates its placement along it by up to a third; a small
-//! source's share of the sum in quadrature is small, and so is its error's.
-//! On seven draft designs of the suite (`examples/spread_linearised.rs`,
-//! docs/studies.md "The spread's solves"), 3 to 10 of 13 to 28 sources
-//! were solved, the RMS spread came within 1.1 % of every source's solve
-//! and the three largest contributors were the same. Each centreline is compared with the
-//! nominal at equal fractions of length.
+//! tolerance, source by source. Every source is first linearised at the
+//! nominal state (`fe::sensitivity`: one factorisation of the tangent, a
+//! substitution per source); those whose linearised change is at least
+//! [`SOLVED_FRACTION`] of the largest change found are then solved both
+//! ways — Newton solves at +tolerance, warm-started from the nominal state,
+//! and at −tolerance, started from the nominal reflected through the first
+//! solve ring by ring (`fe::reflected_start`), each to a relative residual
+//! of `SOURCE_TOLERANCE` (a secant) — and the largest is taken again from
+//! the solved, until every source above the fraction is solved. The
+//! linearised response alone misjudges the large sources: it overstates a
+//! patch's placement around the tube up to sixfold and its angle up to
+//! twofold (the tube's soft twist answering a first-order force that its
+//! geometric stiffening holds back), and understates its placement along
+//! it by up to a third; a small source's share of the sum in quadrature is
+//! small, and so is its error's. On seven draft designs of the suite
+//! (`examples/spread_linearised.rs`, docs/studies.md "The spread's
+//! solves"), 3 to 10 of 13 to 28 sources were solved, the RMS spread came
+//! within 1.1 % of every source's solve and the three largest contributors
+//! were the same. Each centreline is compared with the nominal at equal
+//! fractions of length.
 //!
-//! With dₖ the change of the centreline's samples at source k's tolerance
-//! (after the best rigid alignment onto the nominal, n samples) and tₖ the
-//! tip's move in the clamp's frame:
-//! - spread RMS = √(Σₖ |dₖ|² / n) (independent sources, one σ each);
-//! - worst case ≤ Σₖ |dₖ| / √n (every source at its tolerance the worst
+//! A source solved both ways is read to second order (`change.rs`): its
+//! odd part a and even part b give E|d|² = |a|² + 3|b|² for a normal error
+//! of one tolerance, and a mean move b. One way only (one solve at
+//! +tolerance) understates a sampled spread by the even part: on five
+//! draft designs, 200 samples each, the sampled RMS was 1.01–1.29 times
+//! the one-way figure and 0.96–1.15 times this one (docs/studies.md, "The
+//! spread's solves").
+//!
+//! With Dₖ = E|dₖ|² summed over the n samples of the centreline (after the
+//! best rigid alignment onto the nominal), bₖ source k's mean move at each
+//! sample, Tₖ and tₖ the same for the tip (in the clamp's frame):
+//! - spread RMS = √((Σₖ Dₖ − Σₖ |bₖ|² + |Σₖ bₖ|²) / n) (independent
+//!   sources, one σ each: their mean moves add as vectors);
+//! - worst case ≤ Σₖ √(Dₖ / n) (every source at its tolerance the worst
 //!   way: the triangle inequality's bound);
-//! - tip: √(Σₖ |tₖ|²), and Σₖ |tₖ| at worst;
+//! - tip: √(Σₖ Tₖ − Σₖ |tₖ|² + |Σₖ tₖ|²), and Σₖ √Tₖ at worst;
+//! - the expected centreline's offset from the nominal: √(|Σₖ bₖ|² / n);
 //! - expected shape error against the target: √(e₀² + spread²), e₀ the
-//!   nominal's (the changes have mean zero to first order).
+//!   nominal's (which leaves out how the mean move lines up with e₀'s
+//!   residuals).
 
 use std::sync::atomic::AtomicBool;
 
 use super::answer::{Contributor, Estimate, Spread};
-use super::change::{Change, Nominal, SAMPLES, change_of};
+use super::change::{Change, Nominal, SAMPLES, change_of, offsets_of};
 use super::monte_carlo::monte_carlo;
 use super::sources::Source;
 use super::tolerances::Tolerances;
-use crate::curve::{Curve, shape_error};
+use crate::curve::{Curve, Point, shape_error};
 use crate::design::Design;
 use crate::fe::newton::PatternCache;
 use crate::fe::sensitivity::linearised_centrelines;
-use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate, simulate_with};
+use crate::fe::{
+    SimulateError, SimulateOptions, Simulation, reflected_start, simulate, simulate_with,
+};
 use crate::parallel::map_in_threads;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -146,39 +162,86 @@ pub fn spread_of(
     let mut solves = usize::from(linearised);
     while let Some(pending) = to_solve(&changes) {
         let solved = map_in_threads(&pending, threads, &|&k| {
-            solved_change(nominal, &moved[k], &samples)
+            let other_way = sources[k].moved(nominal.design, -sources[k].tolerance(tolerances).0);
+            solved_change(nominal, &moved[k], &other_way, &samples)
         });
-        for (k, change) in pending.into_iter().zip(solved) {
-            let change = change.map_err(|reason| SpreadError::Moved {
+        for (k, found) in pending.into_iter().zip(solved) {
+            let (change, estimate, taken) = found.map_err(|reason| SpreadError::Moved {
                 label: sources[k].label(),
                 reason,
             })?;
-            changes[k] = Some((change, Estimate::Solved));
-            solves += 1;
+            changes[k] = Some((change, estimate));
+            solves += taken;
         }
     }
-    let mut contributors = Vec::with_capacity(sources.len());
-    let mut band_sq = vec![0.0; SAMPLES];
-    for (source, found) in sources.into_iter().zip(changes) {
-        let (change, estimate) = found.expect("every source found");
-        for (sum, d) in band_sq.iter_mut().zip(&change.each_sq) {
-            *sum += d;
-        }
-        let (tolerance, unit) = source.tolerance(tolerances);
-        contributors.push(Contributor {
-            source,
-            label: source.label(),
-            tolerance,
-            unit: unit.into(),
-            rms_mm: rms(&change),
-            tip_mm: change.tip_mm,
-            estimate,
-        });
-    }
+    let changes: Vec<(Change, Estimate)> = changes.into_iter().flatten().collect();
+    let together = Together::of(&changes);
+    let contributors = contributors(sources, &changes, tolerances);
+    Ok(summary(contributors, &together, against, solves))
+}
+
+/// Each source's share, the largest first.
+fn contributors(
+    sources: Vec<Source>,
+    changes: &[(Change, Estimate)],
+    tolerances: &Tolerances,
+) -> Vec<Contributor> {
+    let mut contributors: Vec<Contributor> = (sources.into_iter().zip(changes))
+        .map(|(source, (change, estimate))| {
+            let (tolerance, unit) = source.tolerance(tolerances);
+            let shift_sq: f64 = change.shift.iter().map(|b| b.norm_squared()).sum();
+            Contributor {
+                source,
+                label: source.label(),
+                tolerance,
+                unit: unit.into(),
+                rms_mm: rms(change),
+                tip_mm: change.tip_mm,
+                shift_mm: (shift_sq / SAMPLES as f64).sqrt(),
+                estimate: *estimate,
+            }
+        })
+        .collect();
     contributors.sort_by(|a, b| b.rms_mm.total_cmp(&a.rms_mm));
-    let mut spread = summary(contributors, against, solves);
-    spread.band_mm = band_sq.iter().map(|d| d.sqrt()).collect();
-    Ok(spread)
+    contributors
+}
+
+/// Every source's change together, at each sample and at the tip: the
+/// expected squares added, and the mean moves added as vectors, so
+/// E|Σₖ dₖ|² = Σₖ E|dₖ|² + |Σₖ bₖ|² − Σₖ |bₖ|² for independent sources
+/// with means bₖ.
+struct Together {
+    band_sq: Vec<f64>,
+    tip_sq: f64,
+    mean_shift_mm: f64,
+}
+
+impl Together {
+    fn of(changes: &[(Change, Estimate)]) -> Together {
+        let mut band_sq = vec![0.0; SAMPLES];
+        let mut shift = vec![Point::zeros(); SAMPLES];
+        let (mut tip_sq, mut tip_shift) = (0.0, Point::zeros());
+        for (change, _) in changes {
+            for (sum, d) in band_sq.iter_mut().zip(&change.each_sq) {
+                *sum += d;
+            }
+            for ((sum, total), b) in band_sq.iter_mut().zip(&mut shift).zip(&change.shift) {
+                *sum -= b.norm_squared();
+                *total += b;
+            }
+            tip_sq += change.tip_mm.powi(2) - change.tip_shift.norm_squared();
+            tip_shift += change.tip_shift;
+        }
+        for (sum, b) in band_sq.iter_mut().zip(&shift) {
+            *sum = (*sum + b.norm_squared()).max(0.0);
+        }
+        let shift_sq: f64 = shift.iter().map(|b| b.norm_squared()).sum();
+        Together {
+            band_sq,
+            tip_sq: (tip_sq + tip_shift.norm_squared()).max(0.0),
+            mean_shift_mm: (shift_sq / SAMPLES as f64).sqrt(),
+        }
+    }
 }
 
 /// A source's change found so far, and how.
@@ -228,18 +291,40 @@ fn to_solve(changes: &[Found]) -> Option<Vec<usize>> {
         .filter(|&k| match &changes[k] {
             None => true,
             Some((c, Estimate::Linearised)) => rms(c) >= SOLVED_FRACTION * largest,
-            Some((_, Estimate::Solved)) => false,
+            Some((_, Estimate::Solved | Estimate::BothWays)) => false,
         })
         .collect();
     (!pending.is_empty()).then_some(pending)
 }
 
-/// `moved`'s change by a Newton solve warm-started from the nominal state.
-fn solved_change(nominal: &Nominal, moved: &Design, samples: &Curve) -> Result<Change, String> {
+/// A source's change by Newton solves at `plus` (warm-started from the
+/// nominal state) and at `other_way` (started from the nominal reflected
+/// through the first, `fe::reflected_start`), and the solves taken. Where
+/// the second solve fails the first one's change stands alone (`Solved`).
+fn solved_change(
+    nominal: &Nominal,
+    plus: &Design,
+    other_way: &Design,
+    samples: &Curve,
+) -> Result<(Change, Estimate, usize), String> {
     let options = nominal.source_options();
-    simulate_with(moved, &options, Some(nominal.simulation), nominal.patterns)
-        .map_err(|e| e.to_string())
-        .and_then(|sim| change_of(&sim.centreline, &nominal.simulation.centreline, samples))
+    let home = &nominal.simulation.centreline;
+    let solve = |design: &Design, start: &Simulation| {
+        simulate_with(design, &options, Some(start), nominal.patterns).map_err(|e| e.to_string())
+    };
+    let plus_state = solve(plus, nominal.simulation)?;
+    let plus_offsets = offsets_of(&plus_state.centreline, home, samples)?;
+    let start = reflected_start(nominal.simulation, &plus_state);
+    let minus = solve(other_way, start.as_ref().unwrap_or(nominal.simulation))
+        .and_then(|state| offsets_of(&state.centreline, home, samples));
+    Ok(match minus {
+        Ok(minus) => (
+            Change::both_ways(&plus_offsets, &minus),
+            Estimate::BothWays,
+            2,
+        ),
+        Err(_) => (Change::one_way(&plus_offsets), Estimate::Solved, 2),
+    })
 }
 
 /// A change's RMS over the samples (mm).
@@ -248,29 +333,27 @@ fn rms(change: &Change) -> f64 {
 }
 
 /// The sources' shares added up, found with `solves` FE solves.
-fn summary(contributors: Vec<Contributor>, against: &Against, solves: usize) -> Spread {
-    let rms_mm = contributors
-        .iter()
-        .map(|c| c.rms_mm.powi(2))
-        .sum::<f64>()
-        .sqrt();
+fn summary(
+    contributors: Vec<Contributor>,
+    together: &Together,
+    against: &Against,
+    solves: usize,
+) -> Spread {
+    let rms_mm = (together.band_sq.iter().sum::<f64>() / SAMPLES as f64).sqrt();
     let rms_percent = 100.0 * rms_mm / against.length_mm;
     let nominal_error = against.nominal_shape_error_percent;
     Spread {
         rms_mm,
         rms_percent,
         worst_mm: contributors.iter().map(|c| c.rms_mm).sum(),
-        tip_rms_mm: contributors
-            .iter()
-            .map(|c| c.tip_mm.powi(2))
-            .sum::<f64>()
-            .sqrt(),
+        tip_rms_mm: together.tip_sq.sqrt(),
         tip_worst_mm: contributors.iter().map(|c| c.tip_mm).sum(),
         nominal_shape_error_percent: nominal_error,
         expected_shape_error_percent: nominal_error.map(|e| e.hypot(rms_percent)),
+        mean_shift_mm: together.mean_shift_mm,
         solves,
         contributors,
         monte_carlo: None,
-        band_mm: Vec::new(),
+        band_mm: together.band_sq.iter().map(|d| d.sqrt()).collect(),
     }
 }

@@ -4,14 +4,16 @@
 //! thickness and the material's modulus.
 //!
 //! The linear estimate ([`linear_spread`], [`spread_of`] from a known
-//! nominal state): each source at its tolerance, linearised at the nominal
-//! state, and the sources that matter (at least [`SOLVED_FRACTION`] of the
-//! largest) solved, warm-started from it; the centreline's change from the
-//! nominal (after the best rigid alignment, as the shape error is measured)
-//! and the tip's move in the clamp's frame. Tolerances
-//! are read as one standard deviation of independent errors, so the
-//! spreads add in quadrature; the worst case adds them in magnitude (an
-//! upper bound of every source at its tolerance the worst way).
+//! nominal state), source by source: each source at its tolerance,
+//! linearised at the nominal state, and the sources that matter (at least
+//! [`SOLVED_FRACTION`] of the largest) solved at +tolerance and −tolerance,
+//! warm-started from it, and read to second order; the centreline's change
+//! from the nominal (after the best rigid alignment, as the shape error is
+//! measured) and the tip's move in the clamp's frame. Tolerances are read
+//! as one standard deviation of independent errors, so the spreads add in
+//! quadrature and the sources' mean moves as vectors; the worst case adds
+//! them in magnitude (an upper bound of every source at its tolerance the
+//! worst way).
 //!
 //! The Monte-Carlo check ([`monte_carlo`]) draws every source at once,
 //! solves the samples in full and says whether the linear estimate holds.

@@ -46,29 +46,37 @@ fn patches_only() -> Tolerances {
 fn the_critical_patch_is_ranked_first_and_the_sums_hold() {
     let spread = linear_spread(&design(), None, &patches_only(), &options(), 4, None).unwrap();
     assert_eq!(spread.contributors.len(), 15);
-    // The nominal, the linearisation, and every source solved: each one at
-    // half the largest change or more, the largest among them.
+    // The nominal, the linearisation, and every source solved both ways:
+    // each one at half the largest change or more, the largest among them.
     let solved: Vec<&Contributor> = (spread.contributors.iter())
-        .filter(|c| c.estimate == Estimate::Solved)
+        .filter(|c| c.estimate != Estimate::Linearised)
         .collect();
-    assert_eq!(spread.solves, 2 + solved.len());
+    assert!(solved.iter().all(|c| c.estimate == Estimate::BothWays));
+    assert_eq!(spread.solves, 2 + 2 * solved.len());
     assert!(solved.len() < 15, "{}", solved.len());
     let largest = spread.contributors[0].rms_mm;
-    assert_eq!(spread.contributors[0].estimate, Estimate::Solved);
+    assert_eq!(spread.contributors[0].estimate, Estimate::BothWays);
     for c in &spread.contributors {
-        assert!(c.estimate == Estimate::Solved || c.rms_mm < SOLVED_FRACTION * largest);
+        assert!(c.estimate == Estimate::BothWays || c.rms_mm < SOLVED_FRACTION * largest);
+        assert!(c.estimate == Estimate::BothWays || c.shift_mm == 0.0);
     }
+    assert!(solved.iter().any(|c| c.shift_mm > 1e-3 * c.rms_mm));
     let first = &spread.contributors[0];
     assert!(
         matches!(first.source, Source::Patch { patch: 1, .. }),
         "{:?}",
         spread.largest(5)
     );
-    // Sorted, and adding up as stated.
+    // Sorted, and adding up as stated: in quadrature, each source's mean
+    // move taken out and the sum of the means put back.
     let shares: Vec<f64> = spread.contributors.iter().map(|c| c.rms_mm).collect();
     assert!(shares.windows(2).all(|w| w[0] >= w[1]), "{shares:?}");
-    let quadrature = shares.iter().map(|s| s * s).sum::<f64>().sqrt();
-    assert!((spread.rms_mm - quadrature).abs() < 1e-12);
+    let scatter: f64 = (spread.contributors.iter())
+        .map(|c| c.rms_mm.powi(2) - c.shift_mm.powi(2))
+        .sum();
+    let together = (scatter + spread.mean_shift_mm.powi(2)).sqrt();
+    assert!((spread.rms_mm - together).abs() < 1e-9 * spread.rms_mm);
+    assert!(spread.mean_shift_mm > 0.0);
     assert!(spread.worst_mm >= spread.rms_mm);
     assert!(spread.tip_worst_mm >= spread.tip_rms_mm && spread.tip_rms_mm > 0.0);
     // The band along the centreline: its mean square is the spread's.
@@ -202,4 +210,46 @@ fn the_sources_looser_tolerance_keeps_their_change() {
         "the patch moved the centreline: {exact} mm (root-sum-square)"
     );
     assert!((looser / exact - 1.0).abs() < 2e-3, "{looser} vs {exact}");
+}
+
+/// The critical patch moved round the tube one way and then the other:
+/// the second solve, started from the nominal reflected through the first
+/// (`fe::reflected_start`), lands where a start from the nominal does, in
+/// fewer Newton iterations.
+#[test]
+fn the_other_way_starts_from_the_reflected_state() {
+    let d = design();
+    let options = options();
+    let nominal_state = crate::fe::simulate(&d, &options).unwrap();
+    let patterns = crate::fe::newton::PatternCache::default();
+    let nominal = Nominal {
+        design: &d,
+        simulation: &nominal_state,
+        options: &options,
+        patterns: &patterns,
+    };
+    let loose = nominal.source_options();
+    let source = Source::Patch {
+        patch: 1,
+        quantity: PatchQuantity::X,
+    };
+    let solve = |delta: f64, start: &crate::fe::Simulation| {
+        crate::fe::simulate_with(&source.moved(&d, delta), &loose, Some(start), &patterns).unwrap()
+    };
+    let plus = solve(1.0, &nominal_state);
+    let reflected = crate::fe::reflected_start(&nominal_state, &plus).unwrap();
+    let (from_nominal, from_reflected) = (solve(-1.0, &nominal_state), solve(-1.0, &reflected));
+    let samples = |s: &crate::fe::Simulation| s.centreline.resample(200).unwrap();
+    let gap = samples(&from_nominal).largest_gap(&samples(&from_reflected));
+    let moved = samples(&from_nominal).largest_gap(&samples(&nominal_state));
+    let iterations = |s: &crate::fe::Simulation| s.stats.iterations;
+    eprintln!(
+        "P1 X −1 mm: moves the centreline up to {moved:.3} mm; from the nominal {} \
+         iterations, from the reflection {}, {gap:.2e} mm apart",
+        iterations(&from_nominal),
+        iterations(&from_reflected)
+    );
+    assert!(moved > 1.0, "{moved}");
+    assert!(gap < 1e-2 * moved, "{gap} of {moved}");
+    assert!(iterations(&from_reflected) < iterations(&from_nominal));
 }

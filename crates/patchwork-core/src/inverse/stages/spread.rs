@@ -1,7 +1,8 @@
 //! The spread: how far the verified design's centreline moves under the
-//! user's fabrication and operating tolerances (`crate::spread`): one solve
-//! per source on the verification model (graded 1 mm in every preset),
-//! warm-started from the design's state there. The spread is a difference
+//! user's fabrication and operating tolerances (`crate::spread`): the
+//! sources linearised at once and the large ones solved both ways on the
+//! verification model (graded 1 mm in every preset), warm-started from the
+//! design's state there. The spread is a difference
 //! of states, which the verification model resolves as well as the finer
 //! ones that correct and verify a design's shape, at a third of their
 //! solve's cost. A spread that cannot be found (a solve fails) leaves the
