@@ -77,7 +77,8 @@ impl Stage {
                 f.shared_solves, f.refine.mesh
             )),
             Stage::Spread(s) => Some(format!(
-                "{SOURCES_PER_PATCH} solves per patch and 3, at the tolerances{}",
+                "{SOURCES_PER_PATCH} sources per patch and 3, at the tolerances: one \
+                 linearisation, the large sources solved both ways{}",
                 match s.monte_carlo {
                     0 => String::new(),
                     n => format!("; a Monte-Carlo check of {n} designs"),
@@ -412,7 +413,8 @@ mod tests {
         let expected = format!(
             "reach; search: {} evaluations, ends after {} without a better design; verify; \
              length; refine: {} solves; layout: up to 5 layouts, {} solves each; \
-             spread: 5 solves per patch and 3, at the tolerances",
+             spread: 5 sources per patch and 3, at the tolerances: one linearisation, the \
+             large sources solved both ways",
             draft.search_budget(),
             tuning.search_patience,
             tuning.refine_budget,
@@ -462,9 +464,9 @@ mod tests {
         ] {
             assert!(budgets.contains(&part), "{part:?} not in {budgets:?}");
         }
-        assert!(budgets.ends_with("at the tolerances"), "{budgets}");
+        assert!(budgets.ends_with("solved both ways"), "{budgets}");
         let fine = plan(Fidelity::Fine, TuningOverrides::default());
-        let checked = "at the tolerances; a Monte-Carlo check of 200 designs";
+        let checked = "solved both ways; a Monte-Carlo check of 200 designs";
         assert!(fine.describe_budgets().ends_with(checked));
         // The robust refine follows the spread, and the check is of the
         // design that stands: after it.
@@ -476,7 +478,7 @@ mod tests {
         let robust_part = "robust: 270 solves, weighing the spread's 4 largest sources at most; \
                            a Monte-Carlo check of 200 designs";
         assert!(budgets.ends_with(robust_part), "{budgets}");
-        assert!(budgets.contains("at the tolerances; robust"), "{budgets}");
+        assert!(budgets.contains("solved both ways; robust"), "{budgets}");
         let unspread = TuningOverrides {
             spread: Some(false),
             ..robust

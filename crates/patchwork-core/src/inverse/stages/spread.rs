@@ -15,8 +15,9 @@ use super::super::run::{Context, Run};
 use crate::fe::Simulation;
 use crate::spread::{Against, Nominal, Spread, monte_carlo, spread_of};
 
-/// Its solves: `SOURCES_PER_PATCH` per patch and three for the balloon,
-/// and the Monte-Carlo check's designs.
+/// Its sources: `SOURCES_PER_PATCH` per patch and three for the balloon,
+/// linearised at once, the large ones solved both ways; and the
+/// Monte-Carlo check's designs.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpreadStage {
     /// Designs of the Monte-Carlo check (0: none).
