@@ -35,7 +35,9 @@ pub struct Contributor {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Estimate {
-    /// A Newton solve of the design with the source at its tolerance.
+    /// A Newton solve of the design with the source at its tolerance, one
+    /// way only (its solve at −tolerance failed, or a result written
+    /// before sources were solved both ways).
     #[default]
     Solved,
     /// The linearised response at the nominal state (a source under

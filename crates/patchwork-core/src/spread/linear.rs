@@ -24,9 +24,10 @@
 //! odd part a and even part b give E|d|² = |a|² + 3|b|² for a normal error
 //! of one tolerance, and a mean move b. One way only (one solve at
 //! +tolerance) understates a sampled spread by the even part: on five
-//! draft designs, 200 samples each, the sampled RMS was 1.01–1.29 times
-//! the one-way figure and 0.96–1.15 times this one (docs/studies.md, "The
-//! spread's solves").
+//! draft designs, 200 samples each, the sampled RMS was 1.01–1.26 times
+//! the spread solved one way and 0.96–1.17 times this one
+//! (`examples/spread_both_ways.rs`, docs/studies.md "The spread's
+//! solves").
 //!
 //! With Dₖ = E|dₖ|² summed over the n samples of the centreline (after the
 //! best rigid alignment onto the nominal), bₖ source k's mean move at each
@@ -174,7 +175,9 @@ pub fn spread_of(
             solves += taken;
         }
     }
-    let changes: Vec<(Change, Estimate)> = changes.into_iter().flatten().collect();
+    let changes: Vec<(Change, Estimate)> = (changes.into_iter())
+        .map(|found| found.expect("every source found"))
+        .collect();
     let together = Together::of(&changes);
     let contributors = contributors(sources, &changes, tolerances);
     Ok(summary(contributors, &together, against, solves))
