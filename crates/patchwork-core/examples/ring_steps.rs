@@ -22,6 +22,9 @@ use patchwork_core::fe::newton::{PatternCache, Steps};
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate, simulate_with};
 use patchwork_core::spread::{SOURCE_TOLERANCE, Source, Tolerances};
 
+#[path = "common/design_json.rs"]
+mod design_json;
+
 const PERTURBED: usize = 6;
 const MOVE_MM: f64 = 1.0;
 const MOVE_DEG: f64 = 3.0;
@@ -139,9 +142,7 @@ fn main() {
     let mut sources = vec![Tally::default(); rules.len()];
     let mut rng = SeededRng::new(1);
     for path in std::env::args().skip(1) {
-        let text = std::fs::read_to_string(&path).expect("readable");
-        let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
-        let design: Design = serde_json::from_value(value["design"].clone()).expect("a design");
+        let design = design_json::design_of(&path);
         let Some((start, s)) = timed(|| simulate(&design, &rules[0].1).ok()) else {
             eprintln!("{path}: the design does not inflate");
             continue;

@@ -12,12 +12,17 @@
 
 use std::sync::atomic::AtomicBool;
 
-use patchwork_core::curve::{AlignedSamples, Curve, Point};
+use patchwork_core::curve::{Curve, Point};
 use patchwork_core::design::Design;
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::newton::PatternCache;
 use patchwork_core::fe::{SimulateOptions, Simulation, reflected_start, simulate, simulate_with};
-use patchwork_core::spread::{Against, Nominal, Source, Tolerances, monte_carlo, spread_of};
+use patchwork_core::spread::{
+    Against, Change, Nominal, Source, Tolerances, monte_carlo, offsets_of, spread_of,
+};
+
+#[path = "common/design_json.rs"]
+mod design_json;
 
 const SAMPLES: usize = 64;
 
@@ -31,13 +36,8 @@ struct Sums {
     iterations: [usize; 3],
 }
 
-fn residuals(moved: &Curve, samples: &Curve) -> Vec<Point> {
-    AlignedSamples::new(moved, samples)
-        .expect("a centreline")
-        .residuals
-}
-
-/// One source: its solves and its terms added to `sums`.
+/// One source: its solves and its terms added to `sums`, each source's
+/// read as the spread reads it (`spread::Change`).
 fn source(source: &Source, design: &Design, nominal: &Nominal, samples: &Curve, sums: &mut Sums) {
     let tolerance = source.tolerance(&Tolerances::default()).0;
     let options = nominal.source_options();
@@ -55,32 +55,30 @@ fn source(source: &Source, design: &Design, nominal: &Nominal, samples: &Curve, 
     let reflected = reflected_start(nominal.simulation, &plus).expect("the same balloon");
     let minus_reflected = solve(-tolerance, &reflected);
     let its = [&plus, &minus, &minus_reflected].map(|s| s.stats.iterations);
-    let (p, m) = (
-        residuals(&plus.centreline, samples),
-        residuals(&minus.centreline, samples),
-    );
+    let home = &nominal.simulation.centreline;
+    let offsets = |s: &Simulation| offsets_of(&s.centreline, home, samples).expect("a centreline");
+    let (p, m) = (offsets(&plus), offsets(&minus));
+    let both = Change::both_ways(&p, &m);
     let n = SAMPLES as f64;
-    let (mut one, mut both, mut scatter) = (0.0, 0.0, 0.0);
-    for (i, (dp, dm)) in p.iter().zip(&m).enumerate() {
-        let (odd, even) = ((dp - dm) / 2.0, (dp + dm) / 2.0);
-        one += dp.norm_squared() / n;
-        both += (odd.norm_squared() + 3.0 * even.norm_squared()) / n;
-        scatter += (odd.norm_squared() + 2.0 * even.norm_squared()) / n;
-        sums.mean[i] += even;
+    let shift_sq: f64 = both.shift.iter().map(|b| b.norm_squared()).sum();
+    let [one, other] = [&p, &m].map(|o| Change::one_way(o).samples_sq() / n);
+    let both_sq = both.samples_sq() / n;
+    for (total, b) in sums.mean.iter_mut().zip(&both.shift) {
+        *total += b;
     }
     println!(
         "{} | {:.3} | {:.3} | {:.3} | {} | {} | {}",
         source.label(),
         one.sqrt(),
-        (m.iter().map(|d| d.norm_squared()).sum::<f64>() / n).sqrt(),
-        both.sqrt(),
+        other.sqrt(),
+        both_sq.sqrt(),
         its[0],
         its[1],
         its[2]
     );
     sums.one_way += one;
-    sums.both_ways += both;
-    sums.scatter += scatter;
+    sums.both_ways += both_sq;
+    sums.scatter += both_sq - shift_sq / n;
     for (total, k) in sums.iterations.iter_mut().zip(its) {
         *total += k;
     }
@@ -94,9 +92,7 @@ fn main() {
     };
     let tolerances = Tolerances::default();
     for path in std::env::args().skip(1) {
-        let text = std::fs::read_to_string(&path).expect("readable");
-        let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
-        let design: Design = serde_json::from_value(value["design"].clone()).expect("a design");
+        let design = design_json::design_of(&path);
         let simulation = simulate(&design, &options).expect("the design inflates");
         let samples = simulation.centreline.resample(SAMPLES).expect("samples");
         let patterns = PatternCache::default();

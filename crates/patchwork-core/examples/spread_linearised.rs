@@ -18,6 +18,9 @@ use patchwork_core::fe::sensitivity::linearised_centrelines;
 use patchwork_core::fe::{SimulateOptions, simulate, simulate_with};
 use patchwork_core::spread::{Nominal, Source, Tolerances};
 
+#[path = "common/design_json.rs"]
+mod design_json;
+
 const SAMPLES: usize = 64;
 
 /// RMS (mm) of `moved`'s change from the nominal samples after alignment.
@@ -44,9 +47,7 @@ fn main() {
     println!("design | source | solved mm | linearised mm | ratio");
     let mut ratios: std::collections::BTreeMap<String, Vec<f64>> = Default::default();
     for path in std::env::args().skip(1) {
-        let text = std::fs::read_to_string(&path).expect("readable");
-        let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
-        let design: Design = serde_json::from_value(value["design"].clone()).expect("a design");
+        let design = design_json::design_of(&path);
         let nominal_sim = simulate(&design, &options).expect("the design inflates");
         let samples = nominal_sim.centreline.resample(SAMPLES).expect("samples");
         let patterns = PatternCache::default();

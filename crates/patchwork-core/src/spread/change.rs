@@ -20,8 +20,7 @@ pub const SAMPLES: usize = 64;
 /// E t⁴ = 3). Solved one way, or linearised, the move d itself stands for
 /// both: E|d|² = |d|² and no mean.
 pub struct Change {
-    /// Σᵢ E|dᵢ|² over the samples (mm²), and each E|dᵢ|².
-    pub samples_sq: f64,
+    /// Each sample's E|dᵢ|² (mm²).
     pub each_sq: Vec<f64>,
     /// √E|d|² of the tip's move (in the clamp's frame).
     pub tip_mm: f64,
@@ -38,11 +37,15 @@ pub struct Offsets {
 }
 
 impl Change {
+    /// Σᵢ E|dᵢ|² over the samples (mm²).
+    pub fn samples_sq(&self) -> f64 {
+        self.each_sq.iter().sum()
+    }
+
     /// The change of a source solved (or linearised) one way only.
     pub fn one_way(moved: &Offsets) -> Change {
         let each_sq: Vec<f64> = moved.residuals.iter().map(|r| r.norm_squared()).collect();
         Change {
-            samples_sq: each_sq.iter().sum(),
             each_sq,
             tip_mm: moved.tip.norm(),
             shift: Vec::new(),
@@ -59,7 +62,6 @@ impl Change {
         let pairs = || plus.residuals.iter().zip(&minus.residuals);
         let each_sq: Vec<f64> = pairs().map(|(p, m)| expected_sq(p, m)).collect();
         Change {
-            samples_sq: each_sq.iter().sum(),
             each_sq,
             tip_mm: expected_sq(&plus.tip, &minus.tip).sqrt(),
             shift: pairs().map(|(p, m)| (p + m) / 2.0).collect(),

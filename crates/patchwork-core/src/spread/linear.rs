@@ -167,12 +167,13 @@ pub fn spread_of(
             solved_change(nominal, &moved[k], &other_way, &samples)
         });
         for (k, found) in pending.into_iter().zip(solved) {
-            let (change, estimate, taken) = found.map_err(|reason| SpreadError::Moved {
+            let found = found.map_err(|reason| SpreadError::Moved {
                 label: sources[k].label(),
                 reason,
             })?;
-            changes[k] = Some((change, estimate));
-            solves += taken;
+            changes[k] = Some(found);
+            // Both ways, the second solve counted where it failed too.
+            solves += 2;
         }
     }
     let changes: Vec<(Change, Estimate)> = (changes.into_iter())
@@ -192,7 +193,6 @@ fn contributors(
     let mut contributors: Vec<Contributor> = (sources.into_iter().zip(changes))
         .map(|(source, (change, estimate))| {
             let (tolerance, unit) = source.tolerance(tolerances);
-            let shift_sq: f64 = change.shift.iter().map(|b| b.norm_squared()).sum();
             Contributor {
                 source,
                 label: source.label(),
@@ -200,7 +200,7 @@ fn contributors(
                 unit: unit.into(),
                 rms_mm: rms(change),
                 tip_mm: change.tip_mm,
-                shift_mm: (shift_sq / SAMPLES as f64).sqrt(),
+                shift_mm: rms_of(&change.shift),
                 estimate: *estimate,
             }
         })
@@ -238,11 +238,10 @@ impl Together {
         for (sum, b) in band_sq.iter_mut().zip(&shift) {
             *sum = (*sum + b.norm_squared()).max(0.0);
         }
-        let shift_sq: f64 = shift.iter().map(|b| b.norm_squared()).sum();
         Together {
             band_sq,
             tip_sq: (tip_sq + tip_shift.norm_squared()).max(0.0),
-            mean_shift_mm: (shift_sq / SAMPLES as f64).sqrt(),
+            mean_shift_mm: rms_of(&shift),
         }
     }
 }
@@ -302,14 +301,14 @@ fn to_solve(changes: &[Found]) -> Option<Vec<usize>> {
 
 /// A source's change by Newton solves at `plus` (warm-started from the
 /// nominal state) and at `other_way` (started from the nominal reflected
-/// through the first, `fe::reflected_start`), and the solves taken. Where
-/// the second solve fails the first one's change stands alone (`Solved`).
+/// through the first, `fe::reflected_start`). Where the second solve
+/// fails the first one's change stands alone (`Solved`).
 fn solved_change(
     nominal: &Nominal,
     plus: &Design,
     other_way: &Design,
     samples: &Curve,
-) -> Result<(Change, Estimate, usize), String> {
+) -> Result<(Change, Estimate), String> {
     let options = nominal.source_options();
     let home = &nominal.simulation.centreline;
     let solve = |design: &Design, start: &Simulation| {
@@ -321,18 +320,19 @@ fn solved_change(
     let minus = solve(other_way, start.as_ref().unwrap_or(nominal.simulation))
         .and_then(|state| offsets_of(&state.centreline, home, samples));
     Ok(match minus {
-        Ok(minus) => (
-            Change::both_ways(&plus_offsets, &minus),
-            Estimate::BothWays,
-            2,
-        ),
-        Err(_) => (Change::one_way(&plus_offsets), Estimate::Solved, 2),
+        Ok(minus) => (Change::both_ways(&plus_offsets, &minus), Estimate::BothWays),
+        Err(_) => (Change::one_way(&plus_offsets), Estimate::Solved),
     })
 }
 
 /// A change's RMS over the samples (mm).
 fn rms(change: &Change) -> f64 {
-    (change.samples_sq / SAMPLES as f64).sqrt()
+    (change.samples_sq() / SAMPLES as f64).sqrt()
+}
+
+/// The RMS over the samples of moves given at each (mm; 0 where none are).
+fn rms_of(moves: &[Point]) -> f64 {
+    (moves.iter().map(|b| b.norm_squared()).sum::<f64>() / SAMPLES as f64).sqrt()
 }
 
 /// The sources' shares added up, found with `solves` FE solves.

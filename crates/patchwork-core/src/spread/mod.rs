@@ -26,7 +26,7 @@ mod sources;
 mod tolerances;
 
 pub use answer::{Contributor, Estimate, MonteCarlo, Spread};
-pub use change::{Nominal, SOURCE_TOLERANCE};
+pub use change::{Change, Nominal, Offsets, SOURCE_TOLERANCE, offsets_of};
 pub use linear::{Against, Check, SOLVED_FRACTION, SpreadError, linear_spread, spread_of};
 pub use monte_carlo::{AGREEMENT, monte_carlo};
 pub use sources::{PatchQuantity, SOURCES_PER_PATCH, Source};

@@ -15,7 +15,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::answer::{MonteCarlo, Spread};
-use super::change::{Nominal, SAMPLES, change_of};
+use super::change::{Change, Nominal, SAMPLES, change_of};
 use super::sources::Source;
 use super::tolerances::Tolerances;
 use crate::cmaes::SeededRng;
@@ -61,7 +61,7 @@ pub fn monte_carlo(
     });
     let solved: Vec<_> = changes.into_iter().flatten().collect();
     let n = solved.len().max(1) as f64;
-    let rms_mm = (solved.iter().map(|c| c.samples_sq).sum::<f64>() / (n * SAMPLES as f64)).sqrt();
+    let rms_mm = (solved.iter().map(Change::samples_sq).sum::<f64>() / (n * SAMPLES as f64)).sqrt();
     let tip_rms_mm = (solved.iter().map(|c| c.tip_mm.powi(2)).sum::<f64>() / n).sqrt();
     let ratio = match linear.rms_mm > 0.0 {
         true => rms_mm / linear.rms_mm,

@@ -201,7 +201,7 @@ fn the_sources_looser_tolerance_keeps_their_change() {
             crate::fe::simulate_with(&moved, options, Some(&nominal_state), &patterns).unwrap();
         change::change_of(&solved.centreline, &nominal_state.centreline, &samples)
             .unwrap()
-            .samples_sq
+            .samples_sq()
             .sqrt()
     };
     let (exact, looser) = (change(&tight), change(&loose));
