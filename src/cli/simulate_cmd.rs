@@ -27,10 +27,12 @@ pub struct SimulateArgs {
     #[arg(long)]
     json: bool,
     /// Element size (mm) [default: 0.5 under patches and at the ends, 4 along
-    /// bare stretches: the model designs are verified on, within 0.5 % of
-    /// membrane theory]. Given alone, the mesh is uniform: 1 mm is 1.9 % off
-    /// theory in hoop stretch, 2 mm 7.6 % and moves a patch's bend by up to
-    /// 10 % with its position on the mesh.
+    /// bare stretches: the model designs are verified on, within 0.2 % of
+    /// membrane theory]. Given alone, the mesh is uniform: on the bare tube
+    /// 1 mm is 0.2 % off theory in hoop stretch and 2 mm 0.7 %, but patched
+    /// centrelines converge more slowly: a 2 mm mesh lies up to 1.7 % of the
+    /// length from a fine solution and moves a patch's bend by up to 10 %
+    /// with its position on the mesh.
     #[arg(long)]
     mesh_mm: Option<f64>,
     /// Axial element size along bare stretches (mm), with `--mesh-mm` only

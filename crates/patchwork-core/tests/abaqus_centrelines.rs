@@ -11,9 +11,13 @@
 //!
 //! Measured (cargo test --release --test abaqus_centrelines -- --nocapture):
 //! six patches, ABAQUS 973.8 mm long, bare ring spacing 14.48 mm; Patchwork
-//! on its verification mesh 962.4 mm (−1.2 %), 14.44 mm, shape error 2.9 %
-//! of length; on ABAQUS's element size (2 mm, 10 round) 885.5 mm, 13.30 mm,
-//! 1.8 %. What is left between them: ABAQUS's bare stretches are not straight
+//! on its verification mesh 968.1 mm (−0.6 %), 14.52 mm, shape error 3.1 %
+//! of length; on ABAQUS's element size (2 mm, 10 round) 974.9 mm, 14.55 mm,
+//! 4.5 % (a 2 mm model's patches bend differently from the converged
+//! model's: its centreline lies 0.6–1.7 % of the length from a 0.25 mm
+//! solution's on four designs, docs/studies.md "Loading the facets"; with
+//! the facets loaded by the bare pressure it was 885.5 mm long, 1.8 %).
+//! What is left between them: ABAQUS's bare stretches are not straight
 //! (about 1.5° per ring, a curvature no uniform tube in equilibrium has: its
 //! explicit run ends with the balloon still moving, or its free quad mesh
 //! bends it), which accounts for most of its 409° of total turning against
@@ -124,10 +128,10 @@ fn six_patches_reproduce_the_abaqus_centreline() {
     assert!(e < 3.5, "shape error {e} %");
     let (l, _, e) = theirs;
     assert!(
-        (l / length - 1.0).abs() < 0.10,
+        (l / length - 1.0).abs() < 0.02,
         "2 mm: length {l} vs {length}"
     );
-    assert!(e < 2.5, "2 mm: shape error {e} %");
+    assert!(e < 5.0, "2 mm: shape error {e} %");
 }
 
 /// The first commit's output is of a helical patch about 169 mm long (see

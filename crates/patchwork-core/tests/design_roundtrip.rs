@@ -40,6 +40,7 @@ struct Request {
     final_refine: Option<FinalRefineSettings>,
     objective: ObjectiveOptions,
     search_patience: usize,
+    kappa_tol: f64,
 }
 
 impl Default for Request {
@@ -60,6 +61,7 @@ impl Default for Request {
             final_refine: tuning.final_refine,
             objective: tuning.objective,
             search_patience: tuning.search_patience,
+            kappa_tol: tuning.kappa_tol,
         }
     }
 }
@@ -76,6 +78,7 @@ impl Request {
             final_refine: self.final_refine,
             objective: self.objective,
             search_patience: self.search_patience,
+            kappa_tol: self.kappa_tol,
             rod_search: false,
             ..Tuning::default()
         }
@@ -771,8 +774,8 @@ fn a_repeated_run_is_served_from_the_evaluation_cache() {
 /// `w_min_mm` = 1) cannot be reached: the design ends pinned on the limit,
 /// and the outcome says so. With the limit relaxed to 0.5 mm the same run
 /// reaches the target and nothing is pinned. Measured: pinned at W = 1.00
-/// (H shortened to 16.4 mm to make up), 0.199 %; relaxed, W 0.701 and
-/// 0.003 %.
+/// (H shortened to 13.2 mm to make up), 0.108 %; relaxed, W 0.702 and
+/// 0.010 %.
 #[test]
 fn a_design_pinned_on_a_limit_says_so() {
     let truth = Patch {
@@ -783,6 +786,13 @@ fn a_design_pinned_on_a_limit_says_so() {
         theta_deg: 0.0,
     };
     let (target, request) = patch_round_trip(truth, 80.0, 60, 40);
+    // The narrow patch bends the tube gently: at most 0.018 /mm on the 2 mm
+    // model, where KSA's default tolerance (0.01 /mm) finds no stretch
+    // that needs a patch, so the seed looks for half that curvature.
+    let request = Request {
+        kappa_tol: 0.005,
+        ..request
+    };
     let relaxed = Request {
         bounds: patchwork_core::inverse::VariableBounds {
             w_min_mm: 0.5,

@@ -5,9 +5,12 @@
 //! for each model, normalised by μ, and the two equilibrium equations
 //!   hoop  p = W₁/(λ₁λ₂),   axial  λ₁W₁ = 2λ₂W₂,   p = P R₀/(μ t₀).
 //!
-//! Tolerance (issue): mid-tube hoop and axial stretch within 1 % on rising
-//! branches. Mesh: 40 nodes around (the polygonal section's area deficit is
-//! 0.4 %), 1 mm axially, tube 25 radii long so the middle is far from both ends.
+//! Tolerance: mid-tube hoop and axial stretch within 0.2 % on rising
+//! branches (the issue asked for 1 %; measured within 0.04 %). Mesh: 40 nodes
+//! around, whose facets the model loads with P / cos(π/40)
+//! (`fe::pressure::facet_load_factor`; loaded with P they fell 0.1–0.3 %
+//! short), 1 mm axially, tube 25 radii long so the middle is far from both
+//! ends.
 
 use patchwork_core::design::{Balloon, Design};
 use patchwork_core::fe::mesh::MeshSpec;
@@ -147,7 +150,10 @@ fn check_fe(model: Model, material: Material, mu: f64, hoop: f64, label: &str) {
         sim.axial_stretch_mid,
         100.0 * ea
     );
-    assert!(eh.abs() < 0.01 && ea.abs() < 0.01, "{label}: outside 1 %");
+    assert!(
+        eh.abs() < 0.002 && ea.abs() < 0.002,
+        "{label}: outside 0.2 %"
+    );
     assert!(sim.stats.stable, "{label}: equilibrium not stable");
 }
 
@@ -228,8 +234,8 @@ fn incompressible_reference_bare_tube_at_20_kpa() {
         "reference 20 kPa: hoop FE {:.5} theory {hoop:.5}, axial FE {:.5} theory {axial_expected:.5}",
         sim.hoop_stretch_mid, sim.axial_stretch_mid
     );
-    assert!((sim.hoop_stretch_mid - hoop).abs() / hoop < 0.01);
-    assert!((sim.axial_stretch_mid - axial_expected).abs() / axial_expected < 0.01);
+    assert!((sim.hoop_stretch_mid - hoop).abs() / hoop < 0.002);
+    assert!((sim.axial_stretch_mid - axial_expected).abs() / axial_expected < 0.002);
     // The mesh a design is simulated on by default is as close.
     let default = simulate(
         &design,
@@ -243,8 +249,8 @@ fn incompressible_reference_bare_tube_at_20_kpa() {
         "default mesh: hoop FE {:.5}, axial FE {:.5}",
         default.hoop_stretch_mid, default.axial_stretch_mid
     );
-    assert!((default.hoop_stretch_mid - hoop).abs() / hoop < 0.01);
-    assert!((default.axial_stretch_mid - axial_expected).abs() / axial_expected < 0.01);
+    assert!((default.hoop_stretch_mid - hoop).abs() / hoop < 0.002);
+    assert!((default.axial_stretch_mid - axial_expected).abs() / axial_expected < 0.002);
     // The core's own closed form (used as Newton's start) agrees with this one.
     assert!(
         (sim.tube_state.hoop - hoop).abs() < 1e-4

@@ -175,7 +175,10 @@ impl Tally {
             (Err(e @ SimulateError::NoTubeState { .. }), Expect::NoTubeState) => {
                 format!("refused as expected: {e}")
             }
-            (Err(e @ SimulateError::Solve { .. }), Expect::ConvergesOrFails) => {
+            (
+                Err(e @ (SimulateError::Solve { .. } | SimulateError::Burst { .. })),
+                Expect::ConvergesOrFails,
+            ) => {
                 self.failed += 1;
                 format!("failed, typed: {e}")
             }
@@ -270,15 +273,22 @@ impl Tally {
 fn abusive_designs_converge_or_fail_with_a_typed_error() {
     let mut t = Tally::default();
     let mid = patch(0.0, 146.0, 20.0, 2.0, 0.0);
-    for (factor, name) in [
-        (1000.0, "patch stiffness ×1000"),
-        (0.01, "patch stiffness ×0.01"),
+    // A patch of a hundredth the stiffness leaves a nearly bare tube whose
+    // one slightly stiffer spot sets off the bare wall's soft mode at 20 kPa:
+    // Newton does not settle within its limits, here or on the default mesh
+    // (60 iterations, relative residual 1e-4). With the facets loaded by the
+    // bare pressure (before `fe::pressure::facet_load_factor`) this 2 mm
+    // mesh ended "converged" in a burst state, hoop stretch 243 and 2.8 m
+    // long; a typed failure is the honest answer.
+    for (factor, name, expect) in [
+        (1000.0, "patch stiffness ×1000", Expect::Converges),
+        (0.01, "patch stiffness ×0.01", Expect::ConvergesOrFails),
     ] {
         let mut d = with_patches(vec![mid]);
         d.patch.material.law = Law::NeoHookean {
             mu_mpa: 1.3 * factor,
         };
-        t.simulate(name, &d, Expect::Converges);
+        t.simulate(name, &d, expect);
     }
     let converges = Expect::Converges;
     let one_patch = [
@@ -346,18 +356,25 @@ fn abusive_designs_converge_or_fail_with_a_typed_error() {
         d.pressure_kpa = p_max_kpa * fraction;
         t.simulate(name, &d, expect);
     }
-    // The incompressible Arruda–Boyce wall locks and holds 500 kPa; the
-    // paper's compressible one thins instead and passes a hoop stretch of 12
-    // (past any latex balloon's burst) near 33 kPa.
+    // The incompressible Arruda–Boyce wall stiffens and the bare tube holds
+    // 500 kPa (hoop stretch 6.0); with the patch Newton settles where the
+    // wall by it has bulged to a hoop stretch of 15, which is refused as a
+    // burst. The paper's compressible wall thins instead and passes a hoop
+    // stretch of 12 (past any latex balloon's burst) near 33 kPa.
     let mut d = with_patches(vec![mid]).with_compressibility(Compressibility::Incompressible);
     d.pressure_kpa = 500.0;
     t.simulate(
         "very high pressure (500 kPa), incompressible",
         &d,
-        converges,
+        Expect::ConvergesOrFails,
     );
+    // At 30 kPa the bare wall stands at hoop stretch 10.4, near its burst:
+    // the patched tube may not settle (here it does not, 72 iterations),
+    // and must not end in a burst state called converged (with the facets
+    // loaded by the bare pressure this 2 mm mesh ended at hoop stretch 404).
     let mut d = with_patches(vec![mid]);
-    for (kpa, expect) in [(30.0, converges), (40.0, Expect::NoTubeState)] {
+    let fails_typed = Expect::ConvergesOrFails;
+    for (kpa, expect) in [(30.0, fails_typed), (40.0, Expect::NoTubeState)] {
         d.pressure_kpa = kpa;
         t.simulate(&format!("{kpa} kPa on the paper's balloon"), &d, expect);
     }

@@ -13,8 +13,8 @@
 //!
 //! Every solve is on [`MeshSpec::default_simulation`], the mesh `simulate`
 //! uses and a design's prediction is corrected to: calibrated on a coarser
-//! one, the parameters would absorb its error (a 2 mm mesh is 7.6 % off in
-//! hoop stretch).
+//! one, the parameters would absorb its error (a 2 mm mesh's patched
+//! centrelines lie up to 1.7 % of the length from a fine solution).
 
 use std::f64::consts::PI;
 

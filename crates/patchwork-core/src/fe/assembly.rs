@@ -51,7 +51,7 @@ impl Model {
         });
         let strain = energies.iter().fold(0.0, |sum, e| sum + e);
         match strain.is_finite() {
-            true => strain - self.pressure * self.volume(x),
+            true => strain - self.load() * self.volume(x),
             false => f64::INFINITY,
         }
     }
@@ -105,8 +105,9 @@ impl Model {
         self.assemble_at(x, sections, self.pressure, shift, gradient, values)
     }
 
-    /// [`Model::assemble`] at an explicit pressure (MPa): volume control treats
-    /// the pressure as an unknown.
+    /// [`Model::assemble`] at an explicit pressure (MPa; the facets loaded
+    /// with it times [`Model::load_factor`]): volume control treats the
+    /// pressure as an unknown.
     pub fn assemble_at(
         &self,
         x: &[Point],
@@ -116,6 +117,7 @@ impl Model {
         gradient: &mut [f64],
         values: &mut Vec<f64>,
     ) -> Option<f64> {
+        let load = pressure * self.load_factor;
         let entries = self.value_offsets[self.triangles.len()];
         values.clear();
         values.resize(entries, 0.0);
@@ -124,7 +126,7 @@ impl Model {
             let first = self.value_offsets[range.start];
             for (t, share) in range.zip(shares) {
                 let slots = self.value_offsets[t] - first..self.value_offsets[t + 1] - first;
-                *share = self.triangle_share(x, t, &sections[t], pressure, &mut values[slots])?;
+                *share = self.triangle_share(x, t, &sections[t], load, &mut values[slots])?;
             }
             Some(())
         })?;
@@ -145,24 +147,24 @@ impl Model {
         Some(potential)
     }
 
-    /// Triangle `t`'s share of Π and ∇Π at pressure `pressure`, its tangent
-    /// entries written to `slots`.
+    /// Triangle `t`'s share of Π and ∇Π under the pressure load `load`, its
+    /// tangent entries written to `slots`.
     fn triangle_share(
         &self,
         x: &[Point],
         t: usize,
         section: &Section,
-        pressure: f64,
+        load: f64,
         slots: &mut [f64],
     ) -> Option<Share> {
         let corners = self.corners(x, t);
         let (w, force, mut k) = self.triangles[t].evaluate(&corners, section, &self.materials)?;
         let dv = volume_gradient(&corners);
-        k -= pressure * volume_hessian(&corners);
+        k -= load * volume_hessian(&corners);
         let mut forces = [0.0; 9];
         for a in 0..3 {
             for i in 0..3 {
-                forces[3 * a + i] = force[(i, a)] - pressure * dv[(i, a)];
+                forces[3 * a + i] = force[(i, a)] - load * dv[(i, a)];
             }
         }
         let mut slot = slots.iter_mut();
@@ -171,7 +173,7 @@ impl Model {
                 *value = k[(i, j)];
             }
         });
-        Some((w - pressure * volume(&corners), forces))
+        Some((w - load * volume(&corners), forces))
     }
 
     /// Runs `work` over the triangles split into up to `self.threads`

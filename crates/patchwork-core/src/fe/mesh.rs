@@ -18,9 +18,9 @@ pub struct MeshSpec {
     /// Target element edge length (mm).
     pub element_mm: f64,
     /// Nodes around the circumference; `None` derives it from `element_mm`.
-    /// The cross-section is a polygon of this many sides: its area falls short of
-    /// the circle's by a relative 1 − sin(2π/n)/(2π/n) (6.5 % at n = 10, 1.1 % at
-    /// 24), which sets the accuracy of a uniform tube's axial stretch.
+    /// The cross-section is a polygon of this many sides, whose flat facets
+    /// the model loads with P / cos(π/n) so that a uniform tube takes the
+    /// round tube's stretches ([`facet_load_factor`](super::pressure::facet_load_factor)).
     pub around: Option<usize>,
     /// Axial element length along bare stretches (mm); `None` meshes the whole
     /// tube with `element_mm`. With a value, `element_mm` applies only where
@@ -34,10 +34,13 @@ impl MeshSpec {
     /// stretches — the model every preset verifies a design on (its
     /// correction model), so simulating a design reproduces its predicted
     /// centreline. On the bare reference tube at 20 kPa its hoop and axial
-    /// stretches are within 0.5 % of membrane theory (0.45 % and 0.41 %,
-    /// `cargo test --release --test cli simulate_defaults`; 0.3 % on
-    /// incompressible materials, test `fe_tube_theory`); a 2 mm uniform mesh
-    /// is 7.6 % off in hoop stretch (3.9 % incompressible).
+    /// stretches are within 0.2 % of membrane theory (+0.08 % and +0.12 %,
+    /// `cargo test --release --test cli simulate_defaults`; test
+    /// `fe_tube_theory` for incompressible materials); a 2 mm uniform mesh
+    /// within 1 % (+0.69 %, +0.95 %). A patched centreline converges more
+    /// slowly with the mesh: on four designs this mesh lies 0.02–0.05 % of
+    /// the length from a uniform 0.25 mm solution, a graded 1 mm one
+    /// 0.08–0.42 % (docs/studies.md, "Loading the facets").
     pub const fn default_simulation() -> MeshSpec {
         MeshSpec {
             element_mm: 0.5,

@@ -8,7 +8,7 @@ use super::element::Triangle;
 use super::laminate::Layer;
 use super::mesh::TubeMesh;
 use super::overlap::{Interface, patch_cut};
-use super::pressure::{volume, volume_gradient};
+use super::pressure::{facet_load_factor, volume, volume_gradient};
 use super::section::{Cover, CutElements, Section, WALL, materials};
 use crate::curve::Point;
 use crate::design::Design;
@@ -28,7 +28,11 @@ pub struct Model {
     /// First DOF of each node, `None` for clamped nodes.
     pub dof: Vec<Option<usize>>,
     pub dof_count: usize,
+    /// The inflation pressure (MPa).
     pub pressure: f64,
+    /// What the facets are loaded with per unit of pressure
+    /// ([`facet_load_factor`] of the mesh's section).
+    pub load_factor: f64,
     /// Where each triangle's tangent entries start in the pattern's order
     /// (`assembly.rs`), the total last.
     pub(super) value_offsets: Vec<usize>,
@@ -89,6 +93,7 @@ impl Model {
                 next += 3;
             }
         }
+        let load_factor = facet_load_factor(mesh.around);
         let mut model = Model {
             mesh,
             triangles,
@@ -99,6 +104,7 @@ impl Model {
             dof,
             dof_count: next,
             pressure: design.pressure_mpa(),
+            load_factor,
             value_offsets: Vec::new(),
             threads: 1,
         };
@@ -173,6 +179,12 @@ impl Model {
         self.triangles[t].nodes.map(|n| x[n])
     }
 
+    /// The pressure load on the facets (MPa): the pressure times
+    /// [`Model::load_factor`].
+    pub fn load(&self) -> f64 {
+        self.pressure * self.load_factor
+    }
+
     /// Enclosed volume (mm³).
     pub fn volume(&self, x: &[Point]) -> f64 {
         (0..self.triangles.len())
@@ -210,7 +222,7 @@ impl Model {
             return None;
         }
         let shared = self.mesh.nodes == base.mesh.nodes
-            && self.pressure == base.pressure
+            && self.load() == base.load()
             && self.materials == base.materials;
         let mut change = vec![0.0; self.dof_count];
         for t in 0..self.triangles.len() {
@@ -225,7 +237,7 @@ impl Model {
                 for a in 0..3 {
                     if let Some(d) = self.dof[tri.nodes[a]] {
                         for i in 0..3 {
-                            change[d + i] += sign * (force[(i, a)] - model.pressure * dv[(i, a)]);
+                            change[d + i] += sign * (force[(i, a)] - model.load() * dv[(i, a)]);
                         }
                     }
                 }

@@ -13,7 +13,7 @@ use super::newton::{
     COLD_SHIFT_FLOOR, NewtonOptions, PatternCache, SolveError, SolveStats, Solver,
 };
 use super::section::CutElements;
-use super::tube_theory::{TubeState, inflate_tube};
+use super::tube_theory::{MAX_HOOP, TubeState, inflate_tube};
 use crate::curve::{AnalysisOptions, Curve, Point, analyse};
 use crate::design::{Design, DesignError};
 
@@ -80,6 +80,10 @@ pub enum SimulateError {
         "the bare tube has no stable inflated state at {pressure_kpa} kPa with this material: no rising branch of its inflation curve reaches that pressure below a hoop stretch of 12, past any latex balloon's burst"
     )]
     NoTubeState { pressure_kpa: f64 },
+    #[error(
+        "the balloon bursts: its widest ring inflates to {hoop:.1} times its radius, past a hoop stretch of {MAX_HOOP} (past any latex balloon's burst); a lower pressure or stiffer patches"
+    )]
+    Burst { hoop: f64 },
     #[error("forward solve failed at patch stiffness {stiffness:.3}: {reason}")]
     Solve { stiffness: f64, reason: SolveError },
     #[error("the inflated centreline is degenerate: {0}")]
@@ -324,6 +328,13 @@ fn finish(
     started: Instant,
 ) -> Result<Simulation, SimulateError> {
     let rings = rings(&model.mesh, &x, options.rings);
+    // Newton can settle where the wall has thinned past any latex's burst
+    // (a nearly bare tube near its limit pressure on a coarse mesh: hoop
+    // stretch 400): that is no answer to give.
+    let widest = rings.iter().map(|r| r.radius).fold(0.0, f64::max) / design.balloon.radius_mm;
+    if widest > MAX_HOOP {
+        return Err(SimulateError::Burst { hoop: widest });
+    }
     let centres: Vec<Point> = rings.iter().map(|r| r.centre).collect();
     let centreline =
         Curve::from_points(centres).map_err(|e| SimulateError::Centreline(e.to_string()))?;

@@ -27,8 +27,9 @@ pub struct TubeState {
     pub axial: f64,
 }
 
-/// Largest hoop stretch searched: beyond any latex balloon's burst.
-const MAX_HOOP: f64 = 12.0;
+/// Largest hoop stretch searched: beyond any latex balloon's burst. A
+/// simulated state with a ring inflated further is refused as burst.
+pub const MAX_HOOP: f64 = 12.0;
 /// Scan step in λ₁. Rising and falling branches of p(λ₁) are ~0.5 wide for
 /// rubber; 0.02 finds every crossing of them at a tenth of the cost of 0.005
 /// (this runs on every forward solve).

@@ -164,8 +164,12 @@ impl VolumeSolver {
         let lu =
             Lu::try_new_with_symbolic(self.lu.clone(), matrix.as_ref()).map_err(|_| singular())?;
         let dv = model.volume_gradient(positions);
-        let mut rhs =
-            faer::Mat::<f64>::from_fn(self.n, 2, |i, j| if j == 0 { -gradient[i] } else { dv[i] });
+        // ∂∇Π/∂P = −c ∂V/∂u, with c the facets' load factor.
+        let c = model.load_factor;
+        let mut rhs = faer::Mat::<f64>::from_fn(self.n, 2, |i, j| match j {
+            0 => -gradient[i],
+            _ => c * dv[i],
+        });
         lu.solve_in_place(rhs.as_mut());
         let volume_error = model.volume(positions) - target;
         let dv_a: f64 = (0..self.n).map(|i| dv[i] * rhs[(i, 0)]).sum();

@@ -87,7 +87,7 @@ impl Solver {
 
 /// |P ∂V/∂u|, the size of the pressure load; the wall's stiffness scale when P = 0.
 fn load_scale(model: &Model, x: &[Point]) -> f64 {
-    let n = model.pressure.abs() * norm(&model.volume_gradient(x));
+    let n = model.load().abs() * norm(&model.volume_gradient(x));
     if n > 0.0 {
         n
     } else {

@@ -159,9 +159,9 @@ fn seeded_balloon(
         // membrane theory: correct the length once from a simulation of the
         // seed (even with no patches), scaling patch positions and lengths
         // with it. The length to cut comes from the most accurate model of
-        // the run (the verification mesh): the coarse search mesh's
-        // polygonal section understates the axial stretch by several
-        // percent.
+        // the run (the verification mesh): the coarse search mesh
+        // overstates the bare tube's axial stretch by about 1 % and bends
+        // a patch differently.
         let mut trial = Design {
             patches: seed_patches.clone(),
             ..base.clone()
