@@ -1,0 +1,67 @@
+//! The spread of each design.json's design (`spread::linear_spread` at the
+//! default tolerances, one thread) on the meshes it could be computed on:
+//! the default mesh, the verification model the spread stage uses (graded
+//! 1 mm) and coarser ones; each row the RMS spread (mm), its ratio to the
+//! default mesh's, its wall time and its three largest contributors.
+//!
+//! `cargo run --release -p patchwork-core --example spread_models -- DESIGN.json…`
+
+use std::time::Instant;
+
+use patchwork_core::fe::SimulateOptions;
+use patchwork_core::fe::mesh::MeshSpec;
+use patchwork_core::inverse::Fidelity;
+use patchwork_core::spread::{Tolerances, linear_spread};
+
+#[path = "common/design_json.rs"]
+mod design_json;
+
+/// The default mesh first: the others' spreads are read against it.
+fn meshes() -> Vec<(&'static str, MeshSpec)> {
+    let search = Fidelity::Draft.tuning(3.18).search_mesh;
+    vec![
+        (
+            "graded 0.5 / 4 mm (default)",
+            MeshSpec::default_simulation(),
+        ),
+        ("graded 1 / 4 mm (verification)", MeshSpec::graded(1.0, 4.0)),
+        ("graded 1.5 / 4.5 mm", MeshSpec::graded(1.5, 4.5)),
+        ("graded 2 / 6 mm", MeshSpec::graded(2.0, 6.0)),
+        ("draft's search model", search),
+    ]
+}
+
+fn main() {
+    println!("| design | mesh | spread mm | / default | s | largest three (mm) |");
+    println!("|---|---|---|---|---|---|");
+    for path in std::env::args().skip(1) {
+        let design = design_json::design_of(&path);
+        let mut default = None;
+        for (name, mesh) in meshes() {
+            let options = SimulateOptions {
+                mesh,
+                ..SimulateOptions::default()
+            };
+            let started = Instant::now();
+            let spread = linear_spread(&design, None, &Tolerances::default(), &options, 1, None);
+            let seconds = started.elapsed().as_secs_f64();
+            let spread = match spread {
+                Ok(spread) => spread,
+                Err(e) => {
+                    println!("| {path} | {name} | failed: {e} | | {seconds:.1} | |");
+                    continue;
+                }
+            };
+            let reference = *default.get_or_insert(spread.rms_mm);
+            let largest: Vec<String> = (spread.contributors.iter().take(3))
+                .map(|c| format!("{} {:.2}", c.label, c.rms_mm))
+                .collect();
+            println!(
+                "| {path} | {name} | {:.2} | {:.3} | {seconds:.1} | {} |",
+                spread.rms_mm,
+                spread.rms_mm / reference,
+                largest.join(", ")
+            );
+        }
+    }
+}
