@@ -165,8 +165,7 @@ pub fn thinned(design: &Design, bounds: &VariableBounds) -> Option<(Design, usiz
     if design.patches.len() < 2 {
         return None;
     }
-    let mut order: Vec<usize> = (0..design.patches.len()).collect();
-    order.sort_by(|&a, &b| design.patches[a].y_mm.total_cmp(&design.patches[b].y_mm));
+    let order = along_the_tube(design);
     let run = longest_run(&order, |i| at_weakest(&design.patches[i], bounds))?;
     let removed = run[run.len() / 2];
     let kept: Vec<usize> = run.iter().copied().filter(|&i| i != removed).collect();
@@ -190,6 +189,23 @@ pub fn thinned(design: &Design, bounds: &VariableBounds) -> Option<(Design, usiz
         },
         removed + 1,
     ))
+}
+
+/// Whether two or more patches next to each other along the tube are at
+/// their weakest: a train on a bend gentler than its patches make even at
+/// their smallest and narrowest, which [`thinned`] shortens whatever the
+/// design's shape error.
+pub fn overfull(design: &Design, bounds: &VariableBounds) -> bool {
+    let order = along_the_tube(design);
+    let weakest = |i: usize| at_weakest(&design.patches[i], bounds);
+    longest_run(&order, weakest).is_some_and(|run| run.len() >= 2)
+}
+
+/// The patches' indices in the order of their Y.
+fn along_the_tube(design: &Design) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..design.patches.len()).collect();
+    order.sort_by(|&a, &b| design.patches[a].y_mm.total_cmp(&design.patches[b].y_mm));
+    order
 }
 
 /// The longest run of consecutive entries of `order` that are `weakest`.

@@ -155,3 +155,24 @@ fn thinning_takes_the_middle_of_the_weakest_run_and_respaces_it() {
     let single = balloon(300.0, vec![sized(80.0, h, w)]);
     assert!(super::thinned(&single, &bounds).is_none());
 }
+
+/// Two or more weakest patches next to each other along the tube make a
+/// design overfull, in whatever order they are listed; one alone, or two
+/// with a stronger patch between them, do not.
+#[test]
+fn a_run_of_weakest_patches_is_overfull() {
+    let bounds = VariableBounds::default();
+    let (h, w) = (bounds.h_min_mm, bounds.w_min_mm);
+    let listed_out_of_order = balloon(
+        300.0,
+        vec![sized(120.0, h, w), sized(5.0, 16.0, 3.0), sized(80.0, h, w)],
+    );
+    assert!(super::overfull(&listed_out_of_order, &bounds));
+    let apart = balloon(
+        300.0,
+        vec![sized(40.0, h, w), sized(80.0, 20.0, w), sized(120.0, h, w)],
+    );
+    assert!(!super::overfull(&apart, &bounds));
+    let lone = balloon(300.0, vec![sized(40.0, 20.0, 2.0), sized(80.0, h, w)]);
+    assert!(!super::overfull(&lone, &bounds));
+}

@@ -3,10 +3,12 @@
 //! the design was; the one with the lower verified shape error, by more
 //! than `MARGIN`, is kept. Every layout tried is reported.
 //!
-//! A design whose error stays above `HIGH_ERROR_PERCENT` with patches
-//! at their smallest and narrowest is then thinned: one of them taken out
-//! and its neighbours respaced, refined, kept if the error falls; and again
-//! while each round lowers the error, up to `THINNING_ROUNDS` times.
+//! A design with patches at their smallest and narrowest is then thinned
+//! where its error stays above `HIGH_ERROR_PERCENT`, or where two or more
+//! of them lie side by side (an overfull train, `layout::overfull`): one of
+//! them taken out and its neighbours respaced, refined, kept if the error
+//! falls; and again while each round lowers the error, up to
+//! `THINNING_ROUNDS` times.
 //!
 //! A planar design's candidate is tried planar first; when that does not
 //! win, again with X and Θ free (inclined patches bend the tube less than
@@ -14,7 +16,7 @@
 //! one wins the design is no longer planar, and the report says so.
 
 use super::super::errors::DesignRunError;
-use super::super::layout::{LayoutTrial, thinned, with_gentle_bends};
+use super::super::layout::{LayoutTrial, overfull, thinned, with_gentle_bends};
 use super::super::outcome::StageName;
 use super::super::planar::flattened;
 use super::super::run::{Context, Run};
@@ -31,9 +33,9 @@ use crate::inverse::objective::SHAPE_SAMPLES;
 /// kept when it lowers it at all.
 const MARGIN: f64 = 0.05;
 
-/// At most this many patches are taken out of a design whose shape error
-/// is above `HIGH_ERROR_PERCENT` with patches at their weakest, one per
-/// round while each lowers the error (each a refine of its own).
+/// At most this many patches are taken out of a design with patches at
+/// their weakest, one per round while each lowers the error (each a
+/// refine of its own).
 const THINNING_ROUNDS: usize = 3;
 
 /// The most layouts the stage refines: the gentle-bend layout (planar, then
@@ -85,11 +87,13 @@ impl Layout {
                 break;
             }
         }
+        let full_train = overfull(&run.design, &run.setup.settings.bounds);
         for round in 0..THINNING_ROUNDS {
-            // A low error needs no thinning; but once a patch taken out has
+            // A low error needs no thinning unless a train's patches sit at
+            // their weakest side by side; once a patch taken out has
             // lowered the error, the layout was overfull, and the next
             // round is tried whatever the error.
-            if round == 0 && error <= HIGH_ERROR_PERCENT {
+            if round == 0 && error <= HIGH_ERROR_PERCENT && !full_train {
                 break;
             }
             let Some(candidate) = thinned_candidate(run) else {
