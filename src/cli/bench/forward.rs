@@ -152,9 +152,11 @@ pub fn section(forward: &Forward) -> String {
     out.push_str(&format!(
         "\nThe reference balloon (292 mm, radius 3.18 mm, wall 0.183 mm) at 20 kPa: hoop and axial stretch in the middle of the bare tube \
          against the closed-form membrane solution, and the wall time of one cold \
-         solve (median of {REPEATS}, one thread). The mesh's polygonal section sets \
-         the hoop error of a uniform mesh; the default mesh is fine where the shape \
-         is decided (under patches) and coarse between.\n"
+         solve (median of {REPEATS}, one thread). The section's flat facets are \
+         loaded with P / cos(π/n), the round wall's load (docs/studies.md, \
+         \"Loading the facets\"); what error remains grows with the element size. \
+         The default mesh is fine where the shape is decided (under patches) and \
+         coarse between.\n"
     ));
     let long = &forward.long;
     out.push_str(&format!(
