@@ -17,8 +17,8 @@ use patchwork_core::spread::{Tolerances, linear_spread};
 mod design_json;
 
 /// The default mesh first: the others' spreads are read against it.
-fn meshes() -> Vec<(&'static str, MeshSpec)> {
-    let search = Fidelity::Draft.tuning(3.18).search_mesh;
+fn meshes(radius_mm: f64) -> Vec<(&'static str, MeshSpec)> {
+    let search = Fidelity::Draft.tuning(radius_mm).search_mesh;
     vec![
         (
             "graded 0.5 / 4 mm (default)",
@@ -37,7 +37,7 @@ fn main() {
     for path in std::env::args().skip(1) {
         let design = design_json::design_of(&path);
         let mut default = None;
-        for (name, mesh) in meshes() {
+        for (i, (name, mesh)) in meshes(design.balloon.radius_mm).into_iter().enumerate() {
             let options = SimulateOptions {
                 mesh,
                 ..SimulateOptions::default()
@@ -52,14 +52,17 @@ fn main() {
                     continue;
                 }
             };
-            let reference = *default.get_or_insert(spread.rms_mm);
+            if i == 0 {
+                default = Some(spread.rms_mm);
+            }
+            // Against the default mesh's spread only (none where it failed).
+            let ratio = default.map_or("–".to_string(), |d| format!("{:.3}", spread.rms_mm / d));
             let largest: Vec<String> = (spread.contributors.iter().take(3))
                 .map(|c| format!("{} {:.2}", c.label, c.rms_mm))
                 .collect();
             println!(
-                "| {path} | {name} | {:.2} | {:.3} | {seconds:.1} | {} |",
+                "| {path} | {name} | {:.2} | {ratio} | {seconds:.1} | {} |",
                 spread.rms_mm,
-                spread.rms_mm / reference,
                 largest.join(", ")
             );
         }

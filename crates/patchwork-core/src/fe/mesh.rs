@@ -38,9 +38,9 @@ impl MeshSpec {
     /// `cargo test --release --test cli simulate_defaults`; test
     /// `fe_tube_theory` for incompressible materials); a 2 mm uniform mesh
     /// within 1 % (+0.69 %, +0.95 %). A patched centreline converges more
-    /// slowly with the mesh: on four designs this mesh lies 0.02–0.05 % of
+    /// slowly with the mesh: on four designs this mesh lies 0.02–0.07 % of
     /// the length from a uniform 0.25 mm solution, a graded 1 mm one
-    /// 0.08–0.42 % (docs/studies.md, "Loading the facets").
+    /// 0.08–0.46 % (docs/studies.md, "Loading the facets").
     pub const fn default_simulation() -> MeshSpec {
         MeshSpec {
             element_mm: 0.5,

@@ -26,8 +26,8 @@ use crate::curve::Point;
 /// spread over the perimeter 2n r sin(π/n), is an axial tension
 /// P r cos(π/n)/2. The round tube's are P r and P r/2, and the facets'
 /// stretches are the round wall's (chords scale with r/R), so a faceted tube
-/// loaded with P / cos(π/n) is in the round tube's state. Unloaded, the bare
-/// reference tube at 20 kPa falls short of membrane theory by 7.6 % in hoop
+/// loaded with P / cos(π/n) is in the round tube's state. Loaded with P, the
+/// bare reference tube at 20 kPa falls short of membrane theory by 7.6 % in hoop
 /// stretch at n = 10, 1.9 % at n = 20 and 0.49 % at n = 40; loaded so, it is
 /// within 0.7 %, 0.17 % and 0.04 % (the rest shrinking with the element
 /// length along the tube; `fe_tube_compressible`, `fe_tube_theory`).

@@ -165,8 +165,7 @@ pub fn thinned(design: &Design, bounds: &VariableBounds) -> Option<(Design, usiz
     if design.patches.len() < 2 {
         return None;
     }
-    let order = along_the_tube(design);
-    let run = longest_run(&order, |i| at_weakest(&design.patches[i], bounds))?;
+    let run = weakest_run(design, bounds)?;
     let removed = run[run.len() / 2];
     let kept: Vec<usize> = run.iter().copied().filter(|&i| i != removed).collect();
     let (first, last) = (
@@ -196,16 +195,16 @@ pub fn thinned(design: &Design, bounds: &VariableBounds) -> Option<(Design, usiz
 /// their smallest and narrowest, which [`thinned`] shortens whatever the
 /// design's shape error.
 pub fn overfull(design: &Design, bounds: &VariableBounds) -> bool {
-    let order = along_the_tube(design);
-    let weakest = |i: usize| at_weakest(&design.patches[i], bounds);
-    longest_run(&order, weakest).is_some_and(|run| run.len() >= 2)
+    weakest_run(design, bounds).is_some_and(|run| run.len() >= 2)
 }
 
-/// The patches' indices in the order of their Y.
-fn along_the_tube(design: &Design) -> Vec<usize> {
+/// The longest run of patches next to each other along the tube (by Y)
+/// that are all at their weakest, as indices into the design's patches.
+fn weakest_run(design: &Design, bounds: &VariableBounds) -> Option<Vec<usize>> {
     let mut order: Vec<usize> = (0..design.patches.len()).collect();
     order.sort_by(|&a, &b| design.patches[a].y_mm.total_cmp(&design.patches[b].y_mm));
-    order
+    let run = longest_run(&order, |i| at_weakest(&design.patches[i], bounds))?;
+    Some(run.to_vec())
 }
 
 /// The longest run of consecutive entries of `order` that are `weakest`.
