@@ -500,16 +500,20 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
             >= spread["nominal_shape_error_percent"].as_f64().unwrap()
     );
     // The search's budget, the standard preset's 90-solve refine, and the
-    // spread's solves (one more: the design on the verification model): the
-    // linearisation of every source, and each large source solved both
-    // ways.
+    // spread's solves (one more: the design on the verification model):
+    // the design on the patches' model, a linearisation there and one on
+    // the verification model for the balloon's three, and each large
+    // source solved both ways; the modulus read from the wall's.
     let spread_solves = spread["solves"].as_u64().unwrap();
-    let solved = contributors
-        .iter()
-        .filter(|c| c["estimate"] == "both_ways")
-        .count();
+    let estimate = |of: &str| {
+        (contributors.iter())
+            .filter(|c| c["estimate"] == of)
+            .count()
+    };
+    let solved = estimate("both_ways");
     assert!(solved >= 1 && solved < contributors.len(), "{spread}");
-    assert_eq!(spread_solves, 1 + 2 * solved as u64);
+    assert_eq!(spread_solves, 3 + 2 * solved as u64);
+    assert_eq!(estimate("equivalent"), 1, "{spread}");
     assert!(report["evaluations"].as_u64().unwrap() <= 30 + 90 + spread_solves + 1);
     let files = dir.join("design");
     for name in [

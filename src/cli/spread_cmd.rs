@@ -71,7 +71,7 @@ pub fn run(args: SpreadArgs) -> Result<()> {
         &design,
         target.as_ref(),
         &tolerances,
-        &options,
+        (&options, None),
         threads,
         check,
     )?;

@@ -18,7 +18,7 @@ use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::newton::PatternCache;
 use patchwork_core::fe::{SimulateOptions, Simulation, reflected_start, simulate, simulate_with};
 use patchwork_core::spread::{
-    Against, Change, Nominal, Source, Tolerances, monte_carlo, offsets_of, spread_of,
+    Against, Change, Models, Nominal, Source, Tolerances, monte_carlo, offsets_of, spread_of,
 };
 
 #[path = "common/design_json.rs"]
@@ -115,7 +115,7 @@ fn main() {
         let mean_sq = sums.mean.iter().map(|b| b.norm_squared()).sum::<f64>() / SAMPLES as f64;
         let together = (sums.scatter + mean_sq).sqrt();
         let against = Against::target(&simulation, None).expect("a centreline");
-        let spread = spread_of(&nominal, &against, &tolerances, 1).expect("a spread");
+        let spread = spread_of(&Models::one(nominal), &against, &tolerances, 1).expect("a spread");
         let check = monte_carlo(
             &nominal,
             &spread,

@@ -1,8 +1,9 @@
 //! The spread of each design.json's design (`spread::linear_spread` at the
 //! default tolerances, one thread) on the meshes it could be computed on:
-//! the default mesh, the verification model the spread stage uses (graded
-//! 1 mm) and coarser ones; each row the RMS spread (mm), its ratio to the
-//! default mesh's, its wall time and its three largest contributors.
+//! the default mesh, the verification model (graded 1 mm), coarser ones,
+//! and the spread stage's pair (the balloon's sources on graded 1 mm, the
+//! patches' on graded 2 mm); each row the RMS spread (mm), its ratio to
+//! the default mesh's, its wall time and its three largest contributors.
 //!
 //! `cargo run --release -p patchwork-core --example spread_models -- DESIGN.json…`
 
@@ -16,18 +17,26 @@ use patchwork_core::spread::{Tolerances, linear_spread};
 #[path = "common/design_json.rs"]
 mod design_json;
 
-/// The default mesh first: the others' spreads are read against it.
-fn meshes(radius_mm: f64) -> Vec<(&'static str, MeshSpec)> {
-    let search = Fidelity::Draft.tuning(radius_mm).search_mesh;
+/// The default mesh first: the others' spreads are read against it. Each
+/// row's mesh, and the patches' mesh where it differs.
+fn meshes(radius_mm: f64) -> Vec<(&'static str, MeshSpec, Option<MeshSpec>)> {
+    let draft = Fidelity::Draft.tuning(radius_mm);
+    let verify = MeshSpec::graded(1.0, 4.0);
     vec![
         (
             "graded 0.5 / 4 mm (default)",
             MeshSpec::default_simulation(),
+            None,
         ),
-        ("graded 1 / 4 mm (verification)", MeshSpec::graded(1.0, 4.0)),
-        ("graded 1.5 / 4.5 mm", MeshSpec::graded(1.5, 4.5)),
-        ("graded 2 / 6 mm", MeshSpec::graded(2.0, 6.0)),
-        ("draft's search model", search),
+        ("graded 1 / 4 mm (verification)", verify, None),
+        ("graded 1.5 / 4.5 mm", MeshSpec::graded(1.5, 4.5), None),
+        ("graded 2 / 6 mm", MeshSpec::graded(2.0, 6.0), None),
+        ("draft's search model", draft.search_mesh, None),
+        (
+            "the spread stage's (patches on graded 2 / 6 mm)",
+            verify,
+            draft.spread_patch_mesh,
+        ),
     ]
 }
 
@@ -37,13 +46,16 @@ fn main() {
     for path in std::env::args().skip(1) {
         let design = design_json::design_of(&path);
         let mut default = None;
-        for (i, (name, mesh)) in meshes(design.balloon.radius_mm).into_iter().enumerate() {
-            let options = SimulateOptions {
+        let rows = meshes(design.balloon.radius_mm);
+        for (i, (name, mesh, patch_mesh)) in rows.into_iter().enumerate() {
+            let model = |mesh| SimulateOptions {
                 mesh,
                 ..SimulateOptions::default()
             };
+            let (options, patch_model) = (model(mesh), patch_mesh.map(model));
+            let models = (&options, patch_model.as_ref());
             let started = Instant::now();
-            let spread = linear_spread(&design, None, &Tolerances::default(), &options, 1, None);
+            let spread = linear_spread(&design, None, &Tolerances::default(), models, 1, None);
             let seconds = started.elapsed().as_secs_f64();
             let spread = match spread {
                 Ok(spread) => spread,

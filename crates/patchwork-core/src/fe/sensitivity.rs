@@ -48,6 +48,29 @@ pub fn linearised_centrelines(
     threads: usize,
     patterns: &PatternCache,
 ) -> Option<Vec<Option<Curve>>> {
+    let states = linearised_states(base, simulation, options, changes, threads, patterns)?;
+    Some(states.into_iter().map(|s| Some(s?.centreline)).collect())
+}
+
+/// A change's state to first order: its nodes' positions on the base mesh
+/// stretched to its balloon length, and their centreline.
+pub struct Linearised {
+    pub positions: Vec<Point>,
+    pub centreline: Curve,
+}
+
+/// The states `changes` take to first order from `simulation`, as
+/// [`linearised_centrelines`] finds them: a Newton solve of a change that
+/// alters the whole tube (its pressure or wall) starts from one in about
+/// half the iterations it takes from `simulation`.
+pub fn linearised_states(
+    base: &Design,
+    simulation: &Simulation,
+    options: &SimulateOptions,
+    changes: &[Design],
+    threads: usize,
+    patterns: &PatternCache,
+) -> Option<Vec<Option<Linearised>>> {
     let mesh = &simulation.mesh;
     if changes.iter().any(|d| d.balloon.radius_mm != mesh.radius) {
         return None;
@@ -87,7 +110,11 @@ pub fn linearised_centrelines(
             .iter()
             .map(|r| r.centre)
             .collect();
-        Curve::from_points(centres).ok()
+        let centreline = Curve::from_points(centres).ok()?;
+        Some(Linearised {
+            positions: x.clone(),
+            centreline,
+        })
     }))
 }
 

@@ -77,8 +77,12 @@ impl Stage {
                 f.shared_solves, f.refine.mesh
             )),
             Stage::Spread(s) => Some(format!(
-                "{SOURCES_PER_PATCH} sources per patch and 3, at the tolerances: one \
-                 linearisation, the large sources solved both ways{}",
+                "{SOURCES_PER_PATCH} sources per patch and 3, at the tolerances: \
+                 linearised, the large sources solved both ways{}{}",
+                match s.patch_mesh {
+                    Some(mesh) => format!(" (the patches' on the {mesh} model)"),
+                    None => String::new(),
+                },
                 match s.monte_carlo {
                     0 => String::new(),
                     n => format!("; a Monte-Carlo check of {n} designs"),
@@ -266,6 +270,7 @@ fn stages(settings: &UserSettings, tuning: &Tuning) -> Vec<Stage> {
     if tuning.spread {
         stages.push(Stage::Spread(SpreadStage {
             monte_carlo: if robust { 0 } else { tuning.monte_carlo },
+            patch_mesh: tuning.spread_patch_mesh,
         }));
     }
     if robust {
@@ -383,6 +388,7 @@ fn check(
         ("verify_mesh", Some(tuning.verify_mesh)),
         ("correction_mesh", tuning.correction_mesh),
         ("final_refine.mesh", tuning.final_refine.map(|f| f.mesh)),
+        ("spread_patch_mesh", tuning.spread_patch_mesh),
     ];
     for (model, mesh) in meshes {
         if let Some(Err(reason)) = mesh.map(|m| m.validate(radius)) {
@@ -393,97 +399,5 @@ fn check(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::inverse::Fidelity;
-
-    fn plan(fidelity: Fidelity, overrides: TuningOverrides) -> Plan {
-        let settings = UserSettings {
-            fidelity,
-            ..UserSettings::default()
-        };
-        Plan::resolve(settings, &overrides).unwrap()
-    }
-
-    #[test]
-    fn every_stage_with_a_budget_of_its_own_shows_it() {
-        let draft = plan(Fidelity::Draft, TuningOverrides::default());
-        let tuning = draft.tuning();
-        assert!(tuning.search_patience > 0 && tuning.refine_budget > 0);
-        let expected = format!(
-            "reach; search: {} evaluations, ends after {} without a better design; verify; \
-             length; refine: {} solves; layout: up to 5 layouts, {} solves each; \
-             spread: 5 sources per patch and 3, at the tolerances: one linearisation, the \
-             large sources solved both ways",
-            draft.search_budget(),
-            tuning.search_patience,
-            tuning.refine_budget,
-            tuning.refine_budget
-        );
-        assert_eq!(draft.describe_budgets(), expected);
-        let limited = Plan::resolve(
-            UserSettings {
-                time_limit_s: Some(60.0),
-                ..draft.settings().clone()
-            },
-            &TuningOverrides::default(),
-        )
-        .unwrap();
-        assert_eq!(
-            limited.describe_budgets(),
-            format!("{expected}; the whole run: at most 60 s")
-        );
-        assert_eq!(
-            draft.describe(),
-            "seed → reach → search → verify → length → refine → layout → spread"
-        );
-
-        let standard = plan(
-            Fidelity::Standard,
-            TuningOverrides {
-                search_patience: Some(0),
-                polish_budget: Some(30),
-                ..TuningOverrides::default()
-            },
-        );
-        let budgets = standard.describe_budgets();
-        let last = standard
-            .tuning()
-            .final_refine
-            .expect("standard's final refine");
-        let shared = standard.tuning().refine_budget;
-        let staging = shared.min(last.staging_solves);
-        for part in [
-            format!("search: {} evaluations;", standard.search_budget()),
-            "polish: 30 evaluations;".to_string(),
-            format!("refine: {staging} solves;"),
-            format!(
-                "final refine: {shared} solves with the refine's, on the {} model",
-                last.mesh
-            ),
-        ] {
-            assert!(budgets.contains(&part), "{part:?} not in {budgets:?}");
-        }
-        assert!(budgets.ends_with("solved both ways"), "{budgets}");
-        let fine = plan(Fidelity::Fine, TuningOverrides::default());
-        let checked = "solved both ways; a Monte-Carlo check of 200 designs";
-        assert!(fine.describe_budgets().ends_with(checked));
-        // The robust refine follows the spread, and the check is of the
-        // design that stands: after it.
-        let robust = TuningOverrides {
-            robust: Some(true),
-            ..TuningOverrides::default()
-        };
-        let budgets = plan(Fidelity::Fine, robust.clone()).describe_budgets();
-        let robust_part = "robust: 270 solves, weighing the spread's 4 largest sources at most; \
-                           a Monte-Carlo check of 200 designs";
-        assert!(budgets.ends_with(robust_part), "{budgets}");
-        assert!(budgets.contains("solved both ways; robust"), "{budgets}");
-        let unspread = TuningOverrides {
-            spread: Some(false),
-            ..robust
-        };
-        let refused = Plan::resolve(UserSettings::default(), &unspread).unwrap_err();
-        assert_eq!(refused.field, "tuning.robust");
-    }
-}
+#[path = "plan_tests.rs"]
+mod tests;

@@ -74,6 +74,8 @@ pub struct PresetRow {
     pub final_refine_mesh: Option<MeshRow>,
     /// Designs of the spread's Monte-Carlo check (0: none).
     pub monte_carlo: usize,
+    /// The model the spread finds each patch's sources on.
+    pub spread_patch_mesh: MeshRow,
 }
 
 /// The search model: 3 mm rings with the 2 mm cross-section (10 sides on the
@@ -89,6 +91,14 @@ const GRADED_1MM: MeshRow = MeshRow {
     element_mm: 1.0,
     section_mm: None,
     straight_mm: Some(4.0),
+};
+/// The spread's model for the patches' sources: a patch's change on it
+/// lies within 3 % of the verification model's, at about a fifth of the
+/// cost (docs/studies.md, "The spread's solves").
+const GRADED_2MM: MeshRow = MeshRow {
+    element_mm: 2.0,
+    section_mm: None,
+    straight_mm: Some(6.0),
 };
 const GRADED_HALF_MM: MeshRow = MeshRow {
     element_mm: 0.5,
@@ -127,6 +137,7 @@ pub const PRESETS: [PresetRow; 3] = [
         correction_mesh: Some(GRADED_HALF_MM),
         final_refine_mesh: None,
         monte_carlo: 0,
+        spread_patch_mesh: GRADED_2MM,
     },
     PresetRow {
         fidelity: Fidelity::Standard,
@@ -138,6 +149,7 @@ pub const PRESETS: [PresetRow; 3] = [
         correction_mesh: Some(GRADED_HALF_MM),
         final_refine_mesh: Some(UNIFORM_HALF_MM),
         monte_carlo: 0,
+        spread_patch_mesh: GRADED_2MM,
     },
     PresetRow {
         fidelity: Fidelity::Fine,
@@ -149,6 +161,7 @@ pub const PRESETS: [PresetRow; 3] = [
         correction_mesh: Some(GRADED_HALF_MM),
         final_refine_mesh: Some(UNIFORM_HALF_MM),
         monte_carlo: FINE_MONTE_CARLO,
+        spread_patch_mesh: GRADED_2MM,
     },
 ];
 
@@ -182,6 +195,7 @@ impl Fidelity {
             gentle_bends: true,
             planar_designs: true,
             spread: true,
+            spread_patch_mesh: Some(row.spread_patch_mesh.mesh(radius_mm)),
             monte_carlo: row.monte_carlo,
             ..Tuning::default()
         }

@@ -76,6 +76,11 @@ pub struct Tuning {
     /// After the design, its spread at the user's tolerances (a solve per
     /// patch quantity and three for the balloon, on the verified model).
     pub spread: bool,
+    /// The model the spread finds each patch's sources on (none: the
+    /// verification model, as the balloon's): a coarser one, whose
+    /// patches' changes agree with the verification model's, at a fraction
+    /// of its solves' cost (`stages::spread`).
+    pub spread_patch_mesh: Option<MeshSpec>,
     /// Designs the spread stage draws at the tolerances and solves in full
     /// to check its linear estimate (`crate::spread::monte_carlo`; 0: none).
     pub monte_carlo: usize,
@@ -124,6 +129,7 @@ impl Default for Tuning {
             gentle_bends: false,
             planar_designs: false,
             spread: false,
+            spread_patch_mesh: None,
             monte_carlo: 0,
             keep_clear: false,
             robust_budget: 0,
@@ -269,6 +275,7 @@ impl TuningOverrides {
             tuning.verify_mesh = MeshSpec::uniform(mesh_mm / 2.0);
             tuning.correction_mesh = None;
             tuning.final_refine = None;
+            tuning.spread_patch_mesh = None;
         }
         let set = |slot: &mut usize, value: Option<usize>| {
             if let Some(value) = value {

@@ -46,6 +46,12 @@ pub enum Estimate {
     /// Newton solves at +tolerance and at −tolerance: the change's odd and
     /// even parts (`change.rs`).
     BothWays,
+    /// The equivalent source's change read at this one's tolerance: the
+    /// balloon's modulus and its wall thickness act as one
+    /// ([`Source::equivalent`](super::Source::equivalent)), so the source
+    /// of the two with the smaller tolerance takes the other's odd and
+    /// even parts, scaled (`change.rs`).
+    Equivalent,
 }
 
 /// What the samples found.

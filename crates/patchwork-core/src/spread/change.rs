@@ -29,6 +29,30 @@ pub struct Change {
     pub tip_shift: Point,
 }
 
+impl Change {
+    /// The change of a source whose response is this one's at `s` times
+    /// its tolerance (`Source::equivalent`): with d(t) = a t + b t², the
+    /// source at s δ reads a' = s a and b' = s² b, so
+    /// E|d'|² = s² |a|² + 3 s⁴ |b|² with |a|² = E|d|² − 3 |b|², and a mean
+    /// move s² b. A change without a mean (one way, linearised) scales by s.
+    pub fn scaled(&self, s: f64) -> Change {
+        let read = |sq: f64, b: &Point| {
+            let odd_sq = (sq - 3.0 * b.norm_squared()).max(0.0);
+            s * s * odd_sq + 3.0 * s.powi(4) * b.norm_squared()
+        };
+        let none = Point::zeros();
+        let each_sq = (self.each_sq.iter().enumerate())
+            .map(|(i, &sq)| read(sq, self.shift.get(i).unwrap_or(&none)))
+            .collect();
+        Change {
+            each_sq,
+            tip_mm: read(self.tip_mm.powi(2), &self.tip_shift).sqrt(),
+            shift: self.shift.iter().map(|b| b * s * s).collect(),
+            tip_shift: self.tip_shift * s * s,
+        }
+    }
+}
+
 /// A moved centreline's offsets from the nominal: at each sample after
 /// the best rigid alignment, and the tip's in the clamp's frame.
 pub struct Offsets {

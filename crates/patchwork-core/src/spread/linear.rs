@@ -1,13 +1,19 @@
 //! The linear spread: each source's change of the centreline at its
-//! tolerance, source by source. Every source is first linearised at the
-//! nominal state (`fe::sensitivity`: one factorisation of the tangent, a
-//! substitution per source); those whose linearised change is at least
-//! [`SOLVED_FRACTION`] of the largest change found are then solved both
-//! ways — Newton solves at +tolerance, warm-started from the nominal state,
-//! and at −tolerance, started from the nominal reflected through the first
-//! solve ring by ring (`fe::reflected_start`), each to a relative residual
-//! of `SOURCE_TOLERANCE` (a secant) — and the largest is taken again from
-//! the solved, until every source above the fraction is solved. The
+//! tolerance, source by source, each on its nominal state (`Models`: the
+//! balloon's sources on one, the patches' on the same or a coarser one).
+//! Every source is first linearised at its nominal state
+//! (`fe::sensitivity`: one factorisation of the tangent, a substitution per
+//! source); those whose linearised change is at least [`SOLVED_FRACTION`]
+//! of the largest change found are then solved both ways — Newton solves
+//! at +tolerance, warm-started from the nominal state (a balloon source's
+//! from its linearised state, `models::starts_linearised`), and at
+//! −tolerance, started from the nominal reflected through the first solve
+//! ring by ring (`fe::reflected_start`), each to a relative residual of
+//! `SOURCE_TOLERANCE` (a secant) — and the largest is taken again from
+//! the solved, until every source above the fraction is solved. Of the
+//! wall and the modulus, which act as one (`Source::equivalent`), only the
+//! one with the larger tolerance is solved; the other reads its change
+//! (`Change::scaled`). The
 //! linearised response alone misjudges the large sources: it overstates a
 //! patch's placement around the tube up to sixfold and its angle up to
 //! twofold (the tube's soft twist answering a first-order force that its
@@ -45,17 +51,15 @@
 use std::sync::atomic::AtomicBool;
 
 use super::answer::{Contributor, Estimate, Spread};
-use super::change::{Change, Nominal, SAMPLES, change_of, offsets_of};
+use super::change::{Change, Nominal, SAMPLES, offsets_of};
+use super::models::{Found, Models, OnModels};
 use super::monte_carlo::monte_carlo;
 use super::sources::Source;
 use super::tolerances::Tolerances;
 use crate::curve::{Curve, Point, shape_error};
 use crate::design::Design;
 use crate::fe::newton::PatternCache;
-use crate::fe::sensitivity::linearised_centrelines;
-use crate::fe::{
-    SimulateError, SimulateOptions, Simulation, reflected_start, simulate, simulate_with,
-};
+use crate::fe::{SimulateError, SimulateOptions, Simulation, reflected_start, simulate_with};
 use crate::parallel::map_in_threads;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -104,28 +108,33 @@ pub struct Check {
 }
 
 /// The spread of `design`'s centreline under `tolerances`, solved with
-/// `options` on up to `threads` threads; against `target` where given; with
-/// the Monte-Carlo `check` where asked.
+/// `options` on up to `threads` threads — the patches' sources on
+/// `patch_model` where given (the design solved there from its state on
+/// `options`); against `target` where given; with the Monte-Carlo `check`
+/// where asked, on `options`.
 pub fn linear_spread(
     design: &Design,
     target: Option<&Curve>,
     tolerances: &Tolerances,
-    options: &SimulateOptions,
+    (options, patch_model): (&SimulateOptions, Option<&SimulateOptions>),
     threads: usize,
     check: Option<Check>,
 ) -> Result<Spread, SpreadError> {
     tolerances.validate().map_err(SpreadError::Tolerances)?;
-    let nominal = simulate(design, options).map_err(SpreadError::Nominal)?;
-    let against = Against::target(&nominal, target)?;
     let patterns = PatternCache::default();
+    let state = simulate_with(design, options, None, &patterns).map_err(SpreadError::Nominal)?;
+    let against = Against::target(&state, target)?;
     let nominal = Nominal {
         design,
-        simulation: &nominal,
+        simulation: &state,
         options,
         patterns: &patterns,
     };
-    let mut spread = spread_of(&nominal, &against, tolerances, threads)?;
-    spread.solves += 1;
+    let coarse = patch_model.map(|model| simulate_with(design, model, Some(&state), &patterns));
+    let coarse = coarse.transpose().map_err(SpreadError::Nominal)?;
+    let models = Models::pair(nominal, coarse.as_ref().zip(patch_model));
+    let mut spread = spread_of(&models, &against, tolerances, threads)?;
+    spread.solves += 1 + usize::from(coarse.is_some());
     if let Some(Check { samples, seed }) = check {
         let never = AtomicBool::new(false);
         let draw = (samples, seed);
@@ -140,31 +149,41 @@ pub fn linear_spread(
 /// largest change (RMS) is solved; a smaller one keeps its linearised change.
 pub const SOLVED_FRACTION: f64 = 0.5;
 
-/// The spread of a design whose nominal state is known (a design run's
-/// verified simulation), on up to `threads` threads.
+/// The spread of a design whose nominal states are known (a design run's
+/// verified simulation, and the patches' coarser one where it has it), on
+/// up to `threads` threads.
 pub fn spread_of(
-    nominal: &Nominal,
+    models: &Models,
     against: &Against,
     tolerances: &Tolerances,
     threads: usize,
 ) -> Result<Spread, SpreadError> {
     tolerances.validate().map_err(SpreadError::Tolerances)?;
-    let samples = nominal
-        .simulation
-        .centreline
-        .resample(SAMPLES)
-        .map_err(degenerate)?;
-    let sources = Source::all(nominal.design, tolerances);
+    let on = OnModels::new(models).map_err(degenerate)?;
+    let design = models.balloon.design;
+    let sources = Source::all(design, tolerances);
     let moved: Vec<Design> = sources
         .iter()
-        .map(|s| s.moved(nominal.design, s.tolerance(tolerances).0))
+        .map(|s| s.moved(design, s.tolerance(tolerances).0))
         .collect();
-    let (mut changes, linearised) = linearised_changes(nominal, &moved, &samples, threads);
-    let mut solves = usize::from(linearised);
+    let linearised = on.linearised(&sources, &moved, threads);
+    let (mut changes, mut solves) = (linearised.changes, linearised.runs);
+    let equivalent = Source::equivalent(&sources, tolerances);
+    // Read from its equivalent's change, never solved (again at the end).
+    let read_equivalent = |changes: &mut [Found]| {
+        if let Some((k, from, s)) = equivalent
+            && let Some((change, _)) = &changes[from]
+        {
+            changes[k] = Some((change.scaled(s), Estimate::Equivalent));
+        }
+    };
+    read_equivalent(&mut changes);
     while let Some(pending) = to_solve(&changes) {
         let solved = map_in_threads(&pending, threads, &|&k| {
-            let other_way = sources[k].moved(nominal.design, -sources[k].tolerance(tolerances).0);
-            solved_change(nominal, &moved[k], &other_way, &samples)
+            let other_way = sources[k].moved(design, -sources[k].tolerance(tolerances).0);
+            let (nominal, samples) = on.of(sources[k]);
+            let start = linearised.starts[k].as_deref();
+            solved_change(nominal, (&moved[k], start), &other_way, samples)
         });
         for (k, found) in pending.into_iter().zip(solved) {
             let found = found.map_err(|reason| SpreadError::Moved {
@@ -175,6 +194,7 @@ pub fn spread_of(
             // Both ways, the second solve counted where it failed too.
             solves += 2;
         }
+        read_equivalent(&mut changes);
     }
     let changes: Vec<(Change, Estimate)> = (changes.into_iter())
         .map(|found| found.expect("every source found"))
@@ -246,40 +266,6 @@ impl Together {
     }
 }
 
-/// A source's change found so far, and how.
-type Found = Option<(Change, Estimate)>;
-
-/// Each moved design's linearised change (none where it has none: the
-/// nominal state unstable, or the change leaving a material's domain), and
-/// whether the linearisation ran (a factorisation, counted as a solve).
-fn linearised_changes(
-    nominal: &Nominal,
-    moved: &[Design],
-    samples: &Curve,
-    threads: usize,
-) -> (Vec<Found>, bool) {
-    let (design, simulation) = (nominal.design, nominal.simulation);
-    let curves = linearised_centrelines(
-        design,
-        simulation,
-        nominal.options,
-        moved,
-        threads,
-        nominal.patterns,
-    );
-    let Some(curves) = curves.filter(|_| !moved.is_empty()) else {
-        return (moved.iter().map(|_| None).collect(), false);
-    };
-    let changes = curves
-        .into_iter()
-        .map(|curve| {
-            let change = change_of(&curve?, &simulation.centreline, samples).ok()?;
-            Some((change, Estimate::Linearised))
-        })
-        .collect();
-    (changes, true)
-}
-
 /// The sources to solve next: those without a change, and those linearised
 /// at `SOLVED_FRACTION` of the largest change or more; none when no source
 /// is left to solve.
@@ -293,19 +279,20 @@ fn to_solve(changes: &[Found]) -> Option<Vec<usize>> {
         .filter(|&k| match &changes[k] {
             None => true,
             Some((c, Estimate::Linearised)) => rms(c) >= SOLVED_FRACTION * largest,
-            Some((_, Estimate::Solved | Estimate::BothWays)) => false,
+            Some((_, Estimate::Solved | Estimate::BothWays | Estimate::Equivalent)) => false,
         })
         .collect();
     (!pending.is_empty()).then_some(pending)
 }
 
-/// A source's change by Newton solves at `plus` (warm-started from the
+/// A source's change by Newton solves at `plus` (warm-started from
+/// `plus_start`, its linearised positions, where given, else from the
 /// nominal state) and at `other_way` (started from the nominal reflected
 /// through the first, `fe::reflected_start`). Where the second solve
 /// fails the first one's change stands alone (`Solved`).
 fn solved_change(
     nominal: &Nominal,
-    plus: &Design,
+    (plus, plus_start): (&Design, Option<&[Point]>),
     other_way: &Design,
     samples: &Curve,
 ) -> Result<(Change, Estimate), String> {
@@ -314,7 +301,11 @@ fn solved_change(
     let solve = |design: &Design, start: &Simulation| {
         simulate_with(design, &options, Some(start), nominal.patterns).map_err(|e| e.to_string())
     };
-    let plus_state = solve(plus, nominal.simulation)?;
+    let linearised = plus_start.map(|positions| Simulation {
+        positions: positions.to_vec(),
+        ..nominal.simulation.clone()
+    });
+    let plus_state = solve(plus, linearised.as_ref().unwrap_or(nominal.simulation))?;
     let plus_offsets = offsets_of(&plus_state.centreline, home, samples)?;
     let start = reflected_start(nominal.simulation, &plus_state);
     let minus = solve(other_way, start.as_ref().unwrap_or(nominal.simulation))

@@ -21,6 +21,7 @@
 mod answer;
 mod change;
 mod linear;
+mod models;
 mod monte_carlo;
 mod sources;
 mod tolerances;
@@ -28,6 +29,7 @@ mod tolerances;
 pub use answer::{Contributor, Estimate, MonteCarlo, Spread};
 pub use change::{Change, Nominal, Offsets, SOURCE_TOLERANCE, offsets_of};
 pub use linear::{Against, Check, SOLVED_FRACTION, SpreadError, linear_spread, spread_of};
+pub use models::Models;
 pub use monte_carlo::{AGREEMENT, monte_carlo};
 pub use sources::{PatchQuantity, SOURCES_PER_PATCH, Source};
 pub use tolerances::Tolerances;

@@ -61,6 +61,22 @@ impl Source {
         patches.chain(balloon).collect()
     }
 
+    /// Two of `sources` that act as one, where both are there: the wall's
+    /// thickness and the balloon's modulus. The membrane's energy per unit
+    /// of reference area is t·W, and the modulus scales W (its bulk term
+    /// with it), so a wall (1 + ε) times thicker and a modulus (1 + ε)
+    /// times stiffer give the same state (to round-off: `spread::tests`).
+    /// The one with the smaller tolerance, the other, and the ratio of
+    /// their tolerances (at most 1).
+    pub fn equivalent(sources: &[Source], t: &Tolerances) -> Option<(usize, usize, f64)> {
+        let at = |s: Source| sources.iter().position(|&k| k == s);
+        let (wall, modulus) = (at(Source::Wall)?, at(Source::Modulus)?);
+        Some(match t.modulus_percent <= t.wall_percent {
+            true => (modulus, wall, t.modulus_percent / t.wall_percent),
+            false => (wall, modulus, t.wall_percent / t.modulus_percent),
+        })
+    }
+
     /// Its tolerance and the unit it is in.
     pub fn tolerance(self, t: &Tolerances) -> (f64, &'static str) {
         match self {

@@ -17,10 +17,10 @@ use super::super::outcome::{Expected, RobustSummary, StageName};
 use super::super::refine::RobustRefined;
 use super::super::run::{Context, Run};
 use super::refine::refine_problem;
-use super::spread::{check_by_sampling, on_verify_model};
+use super::spread::{check_by_sampling, on_verify_model, spread_found};
 use crate::curve::shape_error;
 use crate::fe::{SimulateOptions, Simulation};
-use crate::spread::{Against, Nominal, Source, Spread, spread_of};
+use crate::spread::{Nominal, Source, Spread};
 
 /// The most sources the robust refine weighs.
 pub const MAX_SOURCES: usize = 4;
@@ -154,18 +154,8 @@ impl RobustStage {
                 .simulate_from(design, &verified_model(run), Some(verified))
                 .map_err(|e| format!("its result on the {} model: {e}", run.verified_on))?,
         };
-        let nominal = Nominal {
-            design,
-            simulation: &on_model,
-            options: &run.setup.verify_model,
-            patterns: &ctx.caches.patterns,
-        };
-        let against = Against {
-            length_mm: run.setup.target.length(),
-            nominal_shape_error_percent: None,
-        };
-        let settings = run.setup.settings;
-        let spread = spread_of(&nominal, &against, &settings.tolerances, settings.threads)
+        let patch_mesh = run.setup.tuning.spread_patch_mesh;
+        let spread = spread_found(&run.setup, ctx.caches, design, &on_model, patch_mesh)
             .map_err(|e| format!("its spread: {e}"))?;
         run.state.evaluations += spread.solves + 1;
         let target = &run.setup.profiles.curve;
