@@ -93,8 +93,9 @@ const GRADED_1MM: MeshRow = MeshRow {
     straight_mm: Some(4.0),
 };
 /// The spread's model for the patches' sources: a patch's change on it
-/// lies within 3 % of the verification model's, at about a fifth of the
-/// cost (docs/studies.md, "The spread's solves").
+/// lies within 6 % of the verification model's (the largest ones of six
+/// draft designs), at about a fifth of the cost (docs/studies.md, "The
+/// spread's solves").
 const GRADED_2MM: MeshRow = MeshRow {
     element_mm: 2.0,
     section_mm: None,

@@ -8,7 +8,7 @@
 //! design's state there. The spread is a difference of states, which the
 //! verification model resolves as well as the finer ones that correct and
 //! verify a design's shape, at a third of their solve's cost; a patch's
-//! change is a local bend, which the 2 mm model resolves within 3 % of the
+//! change is a local bend, which the 2 mm model resolves within 6 % of the
 //! verification model at about a fifth of its cost, while the balloon's
 //! sources move the whole tube's stretch, which it overstates by up to a
 //! quarter (docs/studies.md, "The spread's solves"). A spread that cannot
