@@ -125,7 +125,8 @@ pub fn section(curves: &[Row], sure: &[SureRow]) -> String {
         s.push_str(
             "Every design reports its spread at the default tolerances (every patch quantity \
              and the balloon's three linearised at once, those at half the largest change or \
-             more solved at + and − their tolerance, on the verification model). Its cost in the \
+             more solved at + and − their tolerance: the balloon's on the verification model, the \
+             patches' on graded 2 mm). Its cost in the \
              suite's `draft` runs above:\n\n\
              | curve | spread % of length | spread stage s | share of the run |\n|---|---|---|---|\n",
         );
