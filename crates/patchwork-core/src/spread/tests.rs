@@ -129,6 +129,56 @@ fn no_tolerance_no_spread_and_a_bad_one_is_named() {
     assert!(error.to_string().contains("angle_deg"), "{error}");
 }
 
+/// Two models: the patches' sources found on the coarse one as that model
+/// alone finds them, the balloon's on the fine one (to the nominal states'
+/// own solves: the coarse one warm-started here, cold there), and the
+/// solves counted: both nominals, a linearisation on each.
+#[test]
+fn two_models_find_each_source_where_it_belongs() {
+    let coarse = SimulateOptions {
+        mesh: MeshSpec::graded(2.0, 6.0),
+        ..SimulateOptions::default()
+    };
+    let balloon_only = Tolerances {
+        placement_mm: 0.0,
+        angle_deg: 0.0,
+        size_mm: 0.0,
+        ..Tolerances::default()
+    };
+    let (fine, pair) = ((&options(), None), (&options(), Some(&coarse)));
+    let spread = |models, t: &Tolerances| linear_spread(&design(), None, t, models, 2, None);
+    for (t, alone, other) in [
+        (patches_only(), (&coarse, None), fine),
+        (balloon_only, fine, (&coarse, None)),
+    ] {
+        let [pair, alone, other] = [pair, alone, other].map(|m| spread(m, &t).unwrap());
+        for (c, a) in pair.contributors.iter().zip(&alone.contributors) {
+            assert_eq!(
+                (c.source, c.estimate),
+                (a.source, a.estimate),
+                "{c:?} {a:?}"
+            );
+            let apart = (c.rms_mm - a.rms_mm).abs();
+            assert!(apart <= 1e-3 * a.rms_mm, "{c:?} {a:?}");
+        }
+        // The models differ where it matters: the largest source's change
+        // on the other model lies further off than the pair's.
+        let (c, a) = (&pair.contributors[0], &alone.contributors[0]);
+        let o = other.contributors.iter().find(|o| o.source == c.source);
+        let o = o.expect("the same source on the other model");
+        assert!(
+            (o.rms_mm - a.rms_mm).abs() > 10.0 * (c.rms_mm - a.rms_mm).abs(),
+            "{c:?} {o:?}"
+        );
+    }
+    let every = spread(pair, &Tolerances::default()).unwrap();
+    assert_eq!(every.contributors.len(), 18);
+    let solved = (every.contributors.iter())
+        .filter(|c| c.estimate == Estimate::BothWays)
+        .count();
+    assert_eq!(every.solves, 4 + 2 * solved);
+}
+
 /// The modulus read from the wall's solves (the two act as one) against
 /// the modulus solved both ways on its own: their second-order readings
 /// differ by the response's higher orders between ±3 % and ±5 %, measured
