@@ -73,8 +73,10 @@ pub struct Tuning {
     /// Θ = 0 on one line of the tube and the line opposite, X and Θ kept
     /// fixed by the search and the refines.
     pub planar_designs: bool,
-    /// After the design, its spread at the user's tolerances (a solve per
-    /// patch quantity and three for the balloon, on the verified model).
+    /// After the design, its spread at the user's tolerances (every patch
+    /// quantity and the balloon's three, linearised and the large ones
+    /// solved both ways: the balloon's on the verification model, the
+    /// patches' on `spread_patch_mesh`).
     pub spread: bool,
     /// The model the spread finds each patch's sources on (none: the
     /// verification model, as the balloon's): a coarser one, whose
