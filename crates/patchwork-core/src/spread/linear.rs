@@ -5,8 +5,8 @@
 //! (`fe::sensitivity`: one factorisation of the tangent, a substitution per
 //! source); those whose linearised change is at least [`SOLVED_FRACTION`]
 //! of the largest change found are then solved both ways — Newton solves
-//! at +tolerance, warm-started from the nominal state (a balloon source's
-//! from its linearised state, `models::starts_linearised`), and at
+//! at +tolerance, warm-started from the nominal state (all but a patch's
+//! X from their linearised state, `models::starts_linearised`), and at
 //! −tolerance, started from the nominal reflected through the first solve
 //! ring by ring (`fe::reflected_start`), each to a relative residual of
 //! `SOURCE_TOLERANCE` (a secant) — and the largest is taken again from

@@ -3,7 +3,7 @@
 
 use super::answer::Estimate;
 use super::change::{Change, Nominal, SAMPLES, change_of};
-use super::sources::Source;
+use super::sources::{PatchQuantity, Source};
 use crate::CurveError;
 use crate::curve::Curve;
 use crate::curve::Point;
@@ -60,7 +60,7 @@ pub(super) type Found = Option<(Change, Estimate)>;
 
 /// Each source's change linearised (none where it has none), and the
 /// linearised state where it is a better start for the source's solve
-/// than the nominal (a balloon source's: [`starts_linearised`]).
+/// than the nominal (all but a patch's X: [`starts_linearised`]).
 pub(super) struct Linearised {
     pub changes: Vec<Found>,
     pub starts: Vec<Option<Vec<Point>>>,
@@ -68,14 +68,25 @@ pub(super) struct Linearised {
     pub runs: usize,
 }
 
-/// Whether `source`'s solve starts from its linearised state: a balloon
-/// source moves the whole tube's stretch, which the linearisation
-/// predicts closely (Newton takes about half the iterations from it, on
-/// the Hilbert curve, the trefoil and the conical spiral's draft designs);
-/// a patch's moves a bend, which it overstates up to sixfold for the
-/// placement around the tube (more iterations than from the nominal).
+/// Whether `source`'s solve starts from its linearised state: every
+/// source's but a patch's placement around the tube (X). A balloon source
+/// moves the whole tube's stretch and a patch's Y, angle and size its bend
+/// by about as much as the linearisation predicts, and Newton takes about
+/// half the iterations from there (on the verification model: the Hilbert,
+/// trefoil and conical spiral's draft designs' balloon sources; on graded
+/// 2 mm, the helix's, Hilbert's and grasp's patches: angle 97 → 58, width
+/// 86 → 46, Y 91 → 65, length 35 → 19 iterations over their sources). A
+/// patch's X it overstates up to sixfold: from its linearised state the
+/// same patches' X took 226 → 300 iterations (fewer on the Hilbert, more
+/// on the helix and the grasp).
 pub(super) fn starts_linearised(source: Source) -> bool {
-    !matches!(source, Source::Patch { .. })
+    !matches!(
+        source,
+        Source::Patch {
+            quantity: PatchQuantity::X,
+            ..
+        }
+    )
 }
 
 /// [`Models`] with each nominal's samples of its centreline, at which its
