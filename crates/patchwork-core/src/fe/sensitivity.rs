@@ -104,18 +104,24 @@ pub fn linearised_states(
             Some((mesh, model.positions(&shifted)))
         })
         .collect();
-    Some(map_in_threads(&moved, threads, &|m| {
+    let centrelines = map_in_threads(&moved, threads, &|m| {
         let (mesh, x) = m.as_ref()?;
         let centres = rings(mesh, x, options.rings)
             .iter()
             .map(|r| r.centre)
             .collect();
-        let centreline = Curve::from_points(centres).ok()?;
+        Curve::from_points(centres).ok()
+    });
+    // The positions moved into their answer, not copied: the refine's
+    // Jacobian asks for the centrelines alone, column by column.
+    let states = moved.into_iter().zip(centrelines).map(|(m, centreline)| {
+        let (_, positions) = m?;
         Some(Linearised {
-            positions: x.clone(),
-            centreline,
+            positions,
+            centreline: centreline?,
         })
-    }))
+    });
+    Some(states.collect())
 }
 
 #[cfg(test)]

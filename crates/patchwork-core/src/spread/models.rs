@@ -61,7 +61,7 @@ pub(super) type Found = Option<(Change, Estimate)>;
 /// Each source's change linearised (none where it has none), and the
 /// linearised state where it is a better start for the source's solve
 /// than the nominal (all but a patch's X: [`starts_linearised`]).
-pub(super) struct Linearised {
+pub(super) struct LinearisedSources {
     pub changes: Vec<Found>,
     pub starts: Vec<Option<Vec<Point>>>,
     /// The linearisations run (each a factorisation, counted as a solve).
@@ -125,7 +125,7 @@ impl<'a> OnModels<'a> {
         sources: &[Source],
         moved: &[Design],
         threads: usize,
-    ) -> Linearised {
+    ) -> LinearisedSources {
         let groups: Vec<Vec<usize>> = match self.models.shared() {
             true => vec![(0..sources.len()).collect()],
             false => {
@@ -134,7 +134,7 @@ impl<'a> OnModels<'a> {
                 vec![patches, balloon]
             }
         };
-        let mut found = Linearised {
+        let mut found = LinearisedSources {
             changes: sources.iter().map(|_| None).collect(),
             starts: sources.iter().map(|_| None).collect(),
             runs: 0,

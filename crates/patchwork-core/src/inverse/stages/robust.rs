@@ -154,8 +154,14 @@ impl RobustStage {
                 .simulate_from(design, &verified_model(run), Some(verified))
                 .map_err(|e| format!("its result on the {} model: {e}", run.verified_on))?,
         };
+        let nominal = Nominal {
+            design,
+            simulation: &on_model,
+            options: &run.setup.verify_model,
+            patterns: &ctx.caches.patterns,
+        };
         let patch_mesh = run.setup.tuning.spread_patch_mesh;
-        let spread = spread_found(&run.setup, ctx.caches, design, &on_model, patch_mesh)
+        let spread = spread_found(&run.setup, ctx.caches, nominal, patch_mesh)
             .map_err(|e| format!("its spread: {e}"))?;
         run.state.evaluations += spread.solves + 1;
         let target = &run.setup.profiles.curve;

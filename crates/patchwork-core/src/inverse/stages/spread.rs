@@ -20,7 +20,6 @@
 
 use super::super::errors::DesignRunError;
 use super::super::run::{Context, Run, Setup};
-use crate::design::Design;
 use crate::fe::mesh::MeshSpec;
 use crate::fe::{SimulateOptions, Simulation};
 use crate::inverse::caches::Caches;
@@ -52,21 +51,14 @@ impl SpreadStage {
                 return Ok(());
             }
         };
-        let found = spread_found(
-            &run.setup,
-            ctx.caches,
-            &run.design,
-            &simulation,
-            self.patch_mesh,
-        );
-        match found {
+        let nominal = Nominal {
+            design: &run.design,
+            simulation: &simulation,
+            options: &run.setup.verify_model,
+            patterns: &ctx.caches.patterns,
+        };
+        match spread_found(&run.setup, ctx.caches, nominal, self.patch_mesh) {
             Ok(mut spread) => {
-                let nominal = Nominal {
-                    design: &run.design,
-                    simulation: &simulation,
-                    options: &run.setup.verify_model,
-                    patterns: &ctx.caches.patterns,
-                };
                 check_by_sampling(&mut spread, &nominal, self.monte_carlo, run, ctx)?;
                 run.state.evaluations += spread.solves;
                 run.spread = Some(spread);
@@ -78,24 +70,18 @@ impl SpreadStage {
     }
 }
 
-/// The spread of `design`, whose state on the verification model is
-/// `on_model`, at the run's tolerances and against its target: each
-/// patch's sources on `patch_mesh`'s model where given and the design
-/// solves there (that solve counted among the spread's), the balloon's
-/// (and, where not, every source) on the verification model.
+/// The spread of `nominal` (a design and its state on the verification
+/// model) at the run's tolerances and against its target: each patch's
+/// sources on `patch_mesh`'s model where given and the design solves
+/// there (that solve counted among the spread's), the balloon's (and,
+/// where not, every source) on the verification model.
 pub(super) fn spread_found(
     setup: &Setup<'_>,
     caches: &Caches,
-    design: &Design,
-    on_model: &Simulation,
+    nominal: Nominal<'_>,
     patch_mesh: Option<MeshSpec>,
 ) -> Result<Spread, SpreadError> {
-    let nominal = Nominal {
-        design,
-        simulation: on_model,
-        options: &setup.verify_model,
-        patterns: &caches.patterns,
-    };
+    let (design, on_model) = (nominal.design, nominal.simulation);
     let patch_model: Option<SimulateOptions> = patch_mesh.map(|mesh| setup.model(mesh));
     let coarse = (patch_model.as_ref()).map(|model| {
         let solved = caches.simulate_from(design, model, Some(on_model));
