@@ -548,6 +548,22 @@ fn design_writes_every_file_and_dxf_audits_cleanly() {
         (length - predicted).abs() < 1e-2 * predicted,
         "{length} against {predicted}"
     );
+    // `spread` of the design.json finds it on the run's models: the same
+    // spread and largest contributor as the run reported (its nominal
+    // solved cold, not carried from the run: within 1 %).
+    let again = json(&patchwork(&[
+        "spread",
+        design_json.to_str().unwrap(),
+        "--json",
+        "--threads",
+        "2",
+    ]));
+    let rms = |s: &Value| s["rms_mm"].as_f64().unwrap();
+    assert!(
+        (rms(&again) - rms(spread)).abs() < 1e-2 * rms(spread),
+        "{again} against {spread}"
+    );
+    assert_eq!(again["contributors"][0]["label"], contributors[0]["label"]);
 }
 
 #[test]

@@ -24,8 +24,9 @@ fn spread_names_what_matters_most_and_refuses_bad_tolerances() {
         String::from_utf8_lossy(&text.stderr)
     );
     assert!(stdout.contains("matters most: P1 "), "{stdout}");
-    // The count printed: the nominal design, one linearisation of all
-    // fifteen sources, and each large source solved in full both ways.
+    // The count printed: the nominal design on the verification model and
+    // again on the patches' model, one linearisation of all fifteen
+    // sources there, and each large source solved in full both ways.
     let same = json(&patchwork_with_stdin(
         &["spread", "-", "--json", "--tolerances", PATCHES_ONLY],
         DESIGN,
@@ -39,11 +40,11 @@ fn spread_names_what_matters_most_and_refuses_bad_tolerances() {
     assert!((1..15).contains(&solved), "{same}");
     assert_eq!(
         same["solves"].as_u64(),
-        Some(2 + 2 * solved as u64),
+        Some(3 + 2 * solved as u64),
         "{same}"
     );
     assert!(
-        stdout.contains(&format!("{} FE solves", 2 + 2 * solved)),
+        stdout.contains(&format!("{} FE solves", 3 + 2 * solved)),
         "{stdout}"
     );
     // With every source: the balloon's three join the patches' fifteen.
@@ -114,7 +115,7 @@ fn spread_names_what_matters_most_and_refuses_bad_tolerances() {
     );
     assert!(stdout.contains("× the linear estimate"), "{stdout}");
     // The nominal, the linearisation, the one source solved both ways, 12
-    // samples; its mean move printed.
+    // samples (no patch source: no patches' model); its mean move printed.
     assert!(stdout.contains("16 FE solves"), "{stdout}");
     assert!(stdout.contains("on average:   "), "{stdout}");
     assert_one_line_error(

@@ -130,6 +130,7 @@ pub fn linear_spread(
         options,
         patterns: &patterns,
     };
+    let patch_model = patch_model.filter(|_| Source::any_patch(design, tolerances));
     let coarse = patch_model.map(|model| simulate_with(design, model, Some(&state), &patterns));
     let coarse = coarse.transpose().map_err(SpreadError::Nominal)?;
     let models = Models::pair(nominal, coarse.as_ref().zip(patch_model));

@@ -61,6 +61,14 @@ impl Source {
         patches.chain(balloon).collect()
     }
 
+    /// Whether `design` has a patch source under `t` (a patch, and a
+    /// placement, angle or size tolerance above 0): whether a model for
+    /// the patches' sources is worth solving.
+    pub fn any_patch(design: &Design, t: &Tolerances) -> bool {
+        let moved = [t.placement_mm, t.angle_deg, t.size_mm];
+        !design.patches.is_empty() && moved.iter().any(|tol| *tol > 0.0)
+    }
+
     /// Two of `sources` that act as one, where both are there: the wall's
     /// thickness and the balloon's modulus. The membrane's energy per unit
     /// of reference area is t·W, and the modulus scales W (its bulk term

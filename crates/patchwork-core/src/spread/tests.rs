@@ -161,6 +161,12 @@ fn two_models_find_each_source_where_it_belongs() {
             let apart = (c.rms_mm - a.rms_mm).abs();
             assert!(apart <= 1e-3 * a.rms_mm, "{c:?} {a:?}");
         }
+        // The pair solves the design on the patches' model only where a
+        // patch source is (one solve more than the coarse model alone).
+        assert_eq!(
+            pair.solves,
+            alone.solves + usize::from(t.placement_mm > 0.0)
+        );
         // The models differ where it matters: the largest source's change
         // on the other model lies further off than the pair's.
         let (c, a) = (&pair.contributors[0], &alone.contributors[0]);

@@ -23,7 +23,9 @@ use super::super::run::{Context, Run, Setup};
 use crate::fe::mesh::MeshSpec;
 use crate::fe::{SimulateOptions, Simulation};
 use crate::inverse::caches::Caches;
-use crate::spread::{Against, Models, Nominal, Spread, SpreadError, monte_carlo, spread_of};
+use crate::spread::{
+    Against, Models, Nominal, Source, Spread, SpreadError, monte_carlo, spread_of,
+};
 
 /// Its sources: `SOURCES_PER_PATCH` per patch and three for the balloon,
 /// linearised at once, the large ones solved both ways; and the
@@ -82,6 +84,8 @@ pub(super) fn spread_found(
     patch_mesh: Option<MeshSpec>,
 ) -> Result<Spread, SpreadError> {
     let (design, on_model) = (nominal.design, nominal.simulation);
+    let settings = setup.settings;
+    let patch_mesh = patch_mesh.filter(|_| Source::any_patch(design, &settings.tolerances));
     let patch_model: Option<SimulateOptions> = patch_mesh.map(|mesh| setup.model(mesh));
     let coarse = (patch_model.as_ref()).map(|model| {
         let solved = caches.simulate_from(design, model, Some(on_model));
@@ -96,7 +100,6 @@ pub(super) fn spread_found(
         length_mm: setup.target.length(),
         nominal_shape_error_percent: None,
     };
-    let settings = setup.settings;
     let mut spread = spread_of(&models, &against, &settings.tolerances, settings.threads)?;
     spread.solves += usize::from(coarse.is_some());
     Ok(spread)
