@@ -35,7 +35,7 @@ mod tangent_factor;
 pub mod tube_theory;
 pub mod volume_control;
 
-pub use reflect::reflected_start;
+pub use reflect::{reflected_start, second_order_start};
 pub use simulate::{
     SimulateError, SimulateOptions, Simulation, simulate, simulate_from, simulate_with,
 };

@@ -17,7 +17,7 @@
 
 use super::carry::carried_state;
 use super::simulate::Simulation;
-use crate::curve::kabsch;
+use crate::curve::{Point, kabsch};
 
 /// `nominal`'s state with each ring moved by the inverse of its rigid
 /// motion onto `moved`'s (carried onto the nominal's mesh); none where the
@@ -46,6 +46,36 @@ pub fn reflected_start(nominal: &Simulation, moved: &Simulation) -> Option<Simul
         *o = back * (p - translation);
     }
     Some(reflected)
+}
+
+/// A start for the design moved the other way from its linearised
+/// response, to second order: with the moved state x₊ = x₀ + a + b (odd
+/// part a, even part b of the response) and the linearised one
+/// x_l ≈ x₀ + a, the state at −δ is x₋ = x₀ − a + b ≈ x₊ − 2(x_l − x₀),
+/// node by node — the ring's own deformation (its radius under a balloon
+/// source, a patch's edges under its size) reflected with it, where
+/// [`reflected_start`] keeps the nominal's. For sources the linearisation
+/// answers closely (not a patch's placement around the tube, which it
+/// overstates). `linearised` lies on the nominal's mesh; `moved` is
+/// carried onto it. None where the meshes' balloons differ in radius or
+/// `linearised` is of another mesh.
+pub fn second_order_start(
+    nominal: &Simulation,
+    moved: &Simulation,
+    linearised: &[Point],
+) -> Option<Simulation> {
+    let x = &nominal.positions;
+    if linearised.len() != x.len() {
+        return None;
+    }
+    let carried = carried_state(&moved.mesh, &moved.positions, &nominal.mesh)?;
+    let positions = (carried.iter().zip(linearised).zip(x))
+        .map(|((plus, l), x0)| plus - (l - x0) * 2.0)
+        .collect();
+    Some(Simulation {
+        positions,
+        ..nominal.clone()
+    })
 }
 
 #[cfg(test)]

@@ -7,9 +7,11 @@
 //! of the largest change found are then solved both ways — Newton solves
 //! at +tolerance, warm-started from the nominal state (all but a patch's
 //! X from their linearised state, `models::starts_linearised`), and at
-//! −tolerance, started from the nominal reflected through the first solve
-//! ring by ring (`fe::reflected_start`), each to a relative residual of
-//! `SOURCE_TOLERANCE` (a secant) — and the largest is taken again from
+//! −tolerance, started from the first solve less twice the linearised
+//! change (`fe::second_order_start`; a patch's X from the nominal
+//! reflected through the first solve ring by ring, `fe::reflected_start`),
+//! each to a relative residual of `SOURCE_TOLERANCE` with its last move
+//! under `SOURCE_STEP_MM` — and the largest is taken again from
 //! the solved, until every source above the fraction is solved. Of the
 //! wall and the modulus, which act as one (`Source::equivalent`), only the
 //! one with the larger tolerance is solved; the other reads its change
@@ -59,7 +61,9 @@ use super::tolerances::Tolerances;
 use crate::curve::{Curve, Point, shape_error};
 use crate::design::Design;
 use crate::fe::newton::PatternCache;
-use crate::fe::{SimulateError, SimulateOptions, Simulation, reflected_start, simulate_with};
+use crate::fe::{
+    SimulateError, SimulateOptions, Simulation, reflected_start, second_order_start, simulate_with,
+};
 use crate::parallel::map_in_threads;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -288,8 +292,10 @@ fn to_solve(changes: &[Found]) -> Option<Vec<usize>> {
 
 /// A source's change by Newton solves at `plus` (warm-started from
 /// `plus_start`, its linearised positions, where given, else from the
-/// nominal state) and at `other_way` (started from the nominal reflected
-/// through the first, `fe::reflected_start`). Where the second solve
+/// nominal state) and at `other_way` (started from the first less twice
+/// the linearised change where `plus_start` is given,
+/// `fe::second_order_start`, else from the nominal reflected through the
+/// first, `fe::reflected_start`). Where the second solve
 /// fails the first one's change stands alone (`Solved`).
 fn solved_change(
     nominal: &Nominal,
@@ -308,7 +314,11 @@ fn solved_change(
     });
     let plus_state = solve(plus, linearised.as_ref().unwrap_or(nominal.simulation))?;
     let plus_offsets = offsets_of(&plus_state.centreline, home, samples)?;
-    let start = reflected_start(nominal.simulation, &plus_state);
+    // Where the linearisation answers closely, at second order from it;
+    // else the nominal reflected ring by ring through the first solve.
+    let second =
+        plus_start.and_then(|lin| second_order_start(nominal.simulation, &plus_state, lin));
+    let start = second.or_else(|| reflected_start(nominal.simulation, &plus_state));
     let minus = solve(other_way, start.as_ref().unwrap_or(nominal.simulation))
         .and_then(|state| offsets_of(&state.centreline, home, samples));
     Ok(match minus {
