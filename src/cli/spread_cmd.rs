@@ -73,8 +73,8 @@ pub fn run(args: SpreadArgs) -> Result<()> {
     tolerances
         .validate()
         .map_err(|e| anyhow::anyhow!("--tolerances: {e}"))?;
-    let (options, patch_model) = models(&args, design.balloon.radius_mm);
     let threads = args.threads.unwrap_or_else(patchwork_core::available_cores);
+    let (options, patch_model) = models(&args, design.balloon.radius_mm, threads);
     let check = args.monte_carlo.map(|samples| Check {
         // At most 10000 (the parser's range).
         samples: samples as usize,
@@ -97,14 +97,23 @@ pub fn run(args: SpreadArgs) -> Result<()> {
 /// The model the balloon's sources (and the Monte-Carlo check) are solved
 /// on, and the patches' where it differs: a design run's (every preset
 /// finds its spread on the same pair), or the one mesh the user gave.
-fn models(args: &SpreadArgs, radius_mm: f64) -> (SimulateOptions, Option<SimulateOptions>) {
+fn models(
+    args: &SpreadArgs,
+    radius_mm: f64,
+    threads: usize,
+) -> (SimulateOptions, Option<SimulateOptions>) {
     let tuning = Fidelity::Draft.tuning(radius_mm);
+    let on = |mesh| SimulateOptions {
+        threads,
+        ..tuning.model(mesh)
+    };
     if args.mesh_mm.is_some() || args.straight_mm.is_some() {
-        let mesh = MeshSpec::from_options(args.mesh_mm, args.straight_mm);
-        return (tuning.model(mesh), None);
+        return (
+            on(MeshSpec::from_options(args.mesh_mm, args.straight_mm)),
+            None,
+        );
     }
-    let patches = tuning.spread_patch_mesh.map(|mesh| tuning.model(mesh));
-    (tuning.model(tuning.verify_mesh), patches)
+    (on(tuning.verify_mesh), tuning.spread_patch_mesh.map(on))
 }
 
 /// design.json's `target_mm`, where it has one.
