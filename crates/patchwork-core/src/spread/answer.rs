@@ -52,6 +52,11 @@ pub enum Estimate {
     /// of the two with the smaller tolerance takes the other's odd and
     /// even parts, scaled (`change.rs`).
     Equivalent,
+    /// Found with the balloon's other sources that act as one (the wall,
+    /// the modulus and, where its move lies along theirs, the pressure):
+    /// their change together by quadrature on their joint variable, this
+    /// source's share of it shown (`balloon.rs`).
+    Combined,
 }
 
 /// What the samples found.

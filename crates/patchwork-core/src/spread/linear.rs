@@ -12,10 +12,15 @@
 //! reflected through the first solve ring by ring, `fe::reflected_start`),
 //! each to a relative residual of `SOURCE_TOLERANCE` with its last move
 //! under `SOURCE_STEP_MM` — and the largest is taken again from
-//! the solved, until every source above the fraction is solved. Of the
-//! wall and the modulus, which act as one (`Source::equivalent`), only the
-//! one with the larger tolerance is solved; the other reads its change
-//! (`Change::scaled`). The
+//! the solved, until every source above the fraction is solved. The
+//! balloon's sources that act as one — the wall and the modulus exactly,
+//! the pressure where its linearised move lies along theirs — are solved
+//! together instead, once one of them is due: two solves at the nodes of
+//! a Gauss–Hermite rule on their joint variable, each source shown with
+//! its share (`balloon.rs`). Where a node's solve fails they are solved
+//! one by one, and of the wall and the modulus only the one with the
+//! larger tolerance; the other reads its change (`Source::equivalent`,
+//! `Change::scaled`). The
 //! linearised response alone misjudges the large sources: it overstates a
 //! patch's placement around the tube up to sixfold and its angle up to
 //! twofold (the tube's soft twist answering a first-order force that its
@@ -53,6 +58,7 @@
 use std::sync::atomic::AtomicBool;
 
 use super::answer::{Contributor, Estimate, Spread};
+use super::balloon::{Joined, NODES, apportioned};
 use super::change::{Change, Nominal, SAMPLES, offsets_of};
 use super::models::{Found, Models, OnModels};
 use super::monte_carlo::monte_carlo;
@@ -150,6 +156,20 @@ pub fn linear_spread(
     Ok(spread)
 }
 
+/// The source of the wall and the modulus with the smaller tolerance read
+/// from the other's change (`equivalent`: its index, the other's and the
+/// ratio of their tolerances), unless they were found together.
+fn read_equivalent(changes: &mut [Found], equivalent: Option<(usize, usize, f64)>) {
+    let Some((k, from, s)) = equivalent else {
+        return;
+    };
+    if let Some((change, estimate)) = &changes[from]
+        && *estimate != Estimate::Combined
+    {
+        changes[k] = Some((change.scaled(s), Estimate::Equivalent));
+    }
+}
+
 /// A source whose linearised change is at least this fraction of the
 /// largest change (RMS) is solved; a smaller one keeps its linearised change.
 pub const SOLVED_FRACTION: f64 = 0.5;
@@ -174,21 +194,27 @@ pub fn spread_of(
     let linearised = on.linearised(&sources, &moved, threads);
     let (mut changes, mut solves) = (linearised.changes, linearised.runs);
     let equivalent = Source::equivalent(&sources, tolerances);
-    // Read from its equivalent's change, never solved (again at the end).
-    let read_equivalent = |changes: &mut [Found]| {
-        if let Some((k, from, s)) = equivalent
-            && let Some((change, _)) = &changes[from]
-        {
-            changes[k] = Some((change.scaled(s), Estimate::Equivalent));
-        }
-    };
-    read_equivalent(&mut changes);
+    let mut joined = Joined::of(&sources, &linearised.fields);
+    read_equivalent(&mut changes, equivalent);
     while let Some(mut pending) = to_solve(&changes) {
-        // The balloon's sources first: their solves, on the finer model,
-        // take longest, and the threads then share out the patches' (the
-        // spread of the grasp of a 40 mm pipe's draft design on 2 threads
-        // in 0.88 of the time of source order; the same spread).
-        pending.sort_by_key(|&k| matches!(sources[k], Source::Patch { .. }));
+        if let Some(j) = joined.take_if(|j| pending.iter().any(|&k| j.has(k))) {
+            pending.retain(|&k| !j.has(k));
+            let (nominal, samples) = on.of(sources[j.members[0].0]);
+            let found = j.change(
+                nominal,
+                (&sources, tolerances),
+                &linearised.starts,
+                samples,
+                threads,
+            );
+            solves += 2 * NODES.len();
+            // Where a node's solve fails, each source is solved on its own.
+            if let Ok(change) = found {
+                for &(k, _) in &j.members {
+                    changes[k] = Some((apportioned(&change, j.share(k)), Estimate::Combined));
+                }
+            }
+        }
         let solved = map_in_threads(&pending, threads, &|&k| {
             let other_way = sources[k].moved(design, -sources[k].tolerance(tolerances).0);
             let (nominal, samples) = on.of(sources[k]);
@@ -204,12 +230,12 @@ pub fn spread_of(
             // Both ways, the second solve counted where it failed too.
             solves += 2;
         }
-        read_equivalent(&mut changes);
+        read_equivalent(&mut changes, equivalent);
     }
     let changes: Vec<(Change, Estimate)> = (changes.into_iter())
         .map(|found| found.expect("every source found"))
         .collect();
-    let together = Together::of(&changes);
+    let together = Together::of(changes.iter().map(|(c, _)| c));
     let contributors = contributors(sources, &changes, tolerances);
     Ok(summary(contributors, &together, against, solves))
 }
@@ -250,11 +276,11 @@ struct Together {
 }
 
 impl Together {
-    fn of(changes: &[(Change, Estimate)]) -> Together {
+    fn of<'a>(changes: impl Iterator<Item = &'a Change>) -> Together {
         let mut band_sq = vec![0.0; SAMPLES];
         let mut shift = vec![Point::zeros(); SAMPLES];
         let (mut tip_sq, mut tip_shift) = (0.0, Point::zeros());
-        for (change, _) in changes {
+        for change in changes {
             for (sum, d) in band_sq.iter_mut().zip(&change.each_sq) {
                 *sum += d;
             }
@@ -289,7 +315,8 @@ fn to_solve(changes: &[Found]) -> Option<Vec<usize>> {
         .filter(|&k| match &changes[k] {
             None => true,
             Some((c, Estimate::Linearised)) => rms(c) >= SOLVED_FRACTION * largest,
-            Some((_, Estimate::Solved | Estimate::BothWays | Estimate::Equivalent)) => false,
+            Some((_, Estimate::Solved | Estimate::BothWays)) => false,
+            Some((_, Estimate::Equivalent | Estimate::Combined)) => false,
         })
         .collect();
     (!pending.is_empty()).then_some(pending)

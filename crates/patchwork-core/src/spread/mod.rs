@@ -19,6 +19,7 @@
 //! solves the samples in full and says whether the linear estimate holds.
 
 mod answer;
+mod balloon;
 mod change;
 mod linear;
 mod models;

@@ -2,7 +2,7 @@
 //! linearised changes there.
 
 use super::answer::Estimate;
-use super::change::{Change, Nominal, SAMPLES, change_of};
+use super::change::{Change, Nominal, SAMPLES, offsets_of};
 use super::sources::{PatchQuantity, Source};
 use crate::CurveError;
 use crate::curve::Curve;
@@ -64,6 +64,9 @@ pub(super) type Found = Option<(Change, Estimate)>;
 pub(super) struct LinearisedSources {
     pub changes: Vec<Found>,
     pub starts: Vec<Option<Vec<Point>>>,
+    /// Each linearised change's move at every sample of its nominal
+    /// (after the best rigid alignment), where it has one.
+    pub fields: Vec<Option<Vec<Point>>>,
     /// The linearisations run (each a factorisation, counted as a solve).
     pub runs: usize,
 }
@@ -137,6 +140,7 @@ impl<'a> OnModels<'a> {
         let mut found = LinearisedSources {
             changes: sources.iter().map(|_| None).collect(),
             starts: sources.iter().map(|_| None).collect(),
+            fields: sources.iter().map(|_| None).collect(),
             runs: 0,
         };
         for group in groups.into_iter().filter(|g| !g.is_empty()) {
@@ -147,13 +151,20 @@ impl<'a> OnModels<'a> {
             };
             found.runs += 1;
             for (k, (change, start)) in group.into_iter().zip(states) {
-                found.changes[k] = change;
+                let Some((change, field)) = change else {
+                    continue;
+                };
+                found.changes[k] = Some((change, Estimate::Linearised));
+                found.fields[k] = Some(field);
                 found.starts[k] = start.filter(|_| starts_linearised(sources[k]));
             }
         }
         found
     }
 }
+
+/// A linearised change and its move at each sample.
+type Linearised = Option<(Change, Vec<Point>)>;
 
 /// Each moved design's linearised change and state (none where it has
 /// none: the change leaving a material's domain); none at all where the
@@ -163,7 +174,7 @@ fn linearised_changes(
     moved: &[Design],
     samples: &Curve,
     threads: usize,
-) -> Option<Vec<(Found, Option<Vec<Point>>)>> {
+) -> Option<Vec<(Linearised, Option<Vec<Point>>)>> {
     let (design, simulation) = (nominal.design, nominal.simulation);
     let states = linearised_states(
         design,
@@ -178,8 +189,8 @@ fn linearised_changes(
         let Some(state) = state else {
             return (None, None);
         };
-        let change = change_of(&state.centreline, &simulation.centreline, samples).ok();
-        let found = change.map(|c| (c, Estimate::Linearised));
+        let offsets = offsets_of(&state.centreline, &simulation.centreline, samples).ok();
+        let found = offsets.map(|o| (Change::one_way(&o), o.residuals));
         (found, Some(state.positions))
     });
     Some(changes.collect())

@@ -179,47 +179,48 @@ fn two_models_find_each_source_where_it_belongs() {
     }
     let every = spread(pair, &Tolerances::default()).unwrap();
     assert_eq!(every.contributors.len(), 18);
-    let solved = (every.contributors.iter())
-        .filter(|c| c.estimate == Estimate::BothWays)
-        .count();
-    assert_eq!(every.solves, 4 + 2 * solved);
+    let count = |e: Estimate| {
+        (every.contributors.iter())
+            .filter(|c| c.estimate == e)
+            .count()
+    };
+    // The balloon's sources found together: one solve at each node.
+    let together = 2 * super::balloon::NODES.len() * usize::from(count(Estimate::Combined) > 0);
+    assert_eq!(every.solves, 4 + 2 * count(Estimate::BothWays) + together);
 }
 
-/// The modulus read from the wall's solves (the two act as one) against
-/// the modulus solved both ways on its own: their second-order readings
-/// differ by the response's higher orders between ±3 % and ±5 %, measured
-/// 2.0 % in the RMS, 0.01 % at the tip and 0.08 mm (1.7 % of the RMS) in
-/// the mean move.
+/// The wall (±5 %) and the modulus (±3 %) act as one, so found together
+/// they are the wall alone at ±√(5² + 3²) %: the same spread and tip
+/// within 2 % (measured 1.1 % and 0.4 %: the two scale the membrane's
+/// stiffness by their product, which at the nodes lies 0.2 % from the
+/// wider wall's scaling), shared 25 : 9 between them.
 #[test]
-fn the_modulus_read_from_the_wall_is_its_own_solve() {
-    let balloon_only = |wall_percent| Tolerances {
+fn the_wall_and_the_modulus_together_are_one_wider_wall() {
+    let balloon_only = |wall_percent, modulus_percent| Tolerances {
         placement_mm: 0.0,
         angle_deg: 0.0,
         size_mm: 0.0,
         pressure_kpa: 0.0,
         wall_percent,
-        modulus_percent: 3.0,
+        modulus_percent,
     };
     let spread = |t: &Tolerances| linear_spread(&design(), None, t, (&options(), None), 2, None);
-    let (read, alone) = (
-        spread(&balloon_only(5.0)).unwrap(),
-        spread(&balloon_only(0.0)).unwrap(),
-    );
-    let modulus = |s: &Spread| {
-        let c = s.contributors.iter().find(|c| c.source == Source::Modulus);
-        c.cloned().expect("a modulus contributor")
+    let together = spread(&balloon_only(5.0, 3.0)).unwrap();
+    let wider = spread(&balloon_only(34f64.sqrt(), 0.0)).unwrap();
+    eprintln!("together {together:?}\nwider wall {wider:?}");
+    let close = |a: f64, b: f64| (a / b - 1.0).abs() < 0.02;
+    assert!(close(together.rms_mm, wider.rms_mm));
+    assert!(close(together.tip_rms_mm, wider.tip_rms_mm));
+    let share = |source| {
+        let c = together.contributors.iter().find(|c| c.source == source);
+        let c = c.expect("a contributor");
+        assert_eq!(c.estimate, Estimate::Combined);
+        (c.rms_mm / together.rms_mm).powi(2)
     };
-    let (read, alone) = (modulus(&read), modulus(&alone));
-    assert_eq!(
-        (read.estimate, alone.estimate),
-        (Estimate::Equivalent, Estimate::BothWays)
-    );
-    eprintln!("modulus ±3 %: read {read:?}, alone {alone:?}");
-    let close = |a: f64, b: f64| (a / b - 1.0).abs() < 0.03;
-    assert!(close(read.rms_mm, alone.rms_mm), "{read:?} {alone:?}");
-    assert!(close(read.tip_mm, alone.tip_mm), "{read:?} {alone:?}");
-    let mean_moves = (read.shift_mm - alone.shift_mm).abs();
-    assert!(alone.shift_mm > 0.0 && mean_moves < 0.03 * alone.rms_mm);
+    // Within 5e-3 (measured 1.3e-3): each share is read from the source's
+    // linearised change, a secant over its own tolerance.
+    assert!((share(Source::Wall) - 25.0 / 34.0).abs() < 5e-3);
+    assert!((share(Source::Modulus) - 9.0 / 34.0).abs() < 5e-3);
 }
 
 /// One smooth source alone (the wall, ±5 %), 100 seeded samples solved in
