@@ -215,6 +215,11 @@ pub fn spread_of(
                 }
             }
         }
+        // The balloon's sources first (where not found together): their
+        // solves, on the finer model, take longest, and the threads then
+        // share out the patches' (the grasp of a 40 mm pipe's draft design
+        // on 2 threads in 0.88 of the time of source order).
+        pending.sort_by_key(|&k| matches!(sources[k], Source::Patch { .. }));
         let solved = map_in_threads(&pending, threads, &|&k| {
             let other_way = sources[k].moved(design, -sources[k].tolerance(tolerances).0);
             let (nominal, samples) = on.of(sources[k]);
