@@ -51,17 +51,17 @@ pub(super) struct Joined {
 
 impl Joined {
     /// The balloon's sources among `sources` whose linearised `fields`
-    /// lie along the largest one's; none where fewer than one has a field.
+    /// lie along the largest one's; none where no balloon source has a
+    /// field.
     pub(super) fn of(sources: &[Source], fields: &[Option<Vec<Point>>]) -> Option<Joined> {
         let balloon: Vec<(usize, &Vec<Point>)> = (0..sources.len())
             .filter(|&k| !matches!(sources[k], Source::Patch { .. }))
             .filter_map(|k| Some((k, fields[k].as_ref()?)))
             .collect();
         let dot = |a: &[Point], b: &[Point]| a.iter().zip(b).map(|(x, y)| x.dot(y)).sum::<f64>();
-        let size = |f: &[Point]| (dot(f, f) / f.len().max(1) as f64).sqrt();
         let (_, largest) = *balloon
             .iter()
-            .max_by(|a, b| size(a.1).total_cmp(&size(b.1)))?;
+            .max_by(|a, b| dot(a.1, a.1).total_cmp(&dot(b.1, b.1)))?;
         let norm = dot(largest, largest).sqrt();
         if norm == 0.0 {
             return None;
@@ -83,14 +83,9 @@ impl Joined {
         self.members.iter().any(|&(m, _)| m == k)
     }
 
-    /// Source `k`'s share of the whole, cₖ²/σ².
-    pub(super) fn share(&self, k: usize) -> f64 {
-        let c = self
-            .members
-            .iter()
-            .find(|&&(m, _)| m == k)
-            .map_or(0.0, |m| m.1);
-        (c / self.sigma).powi(2)
+    /// Each source's index and its share of the whole, cₖ²/σ².
+    pub(super) fn shares(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (self.members.iter()).map(|&(k, c)| (k, (c / self.sigma).powi(2)))
     }
 
     /// The joined sources' change together, by the quadrature on z (see

@@ -210,15 +210,14 @@ pub fn spread_of(
             solves += 2 * NODES.len();
             // Where a node's solve fails, each source is solved on its own.
             if let Ok(change) = found {
-                for &(k, _) in &j.members {
-                    changes[k] = Some((apportioned(&change, j.share(k)), Estimate::Combined));
+                for (k, share) in j.shares() {
+                    changes[k] = Some((apportioned(&change, share), Estimate::Combined));
                 }
             }
         }
         // The balloon's sources first (where not found together): their
         // solves, on the finer model, take longest, and the threads then
-        // share out the patches' (the grasp of a 40 mm pipe's draft design
-        // on 2 threads in 0.88 of the time of source order).
+        // share out the patches'.
         pending.sort_by_key(|&k| matches!(sources[k], Source::Patch { .. }));
         let solved = map_in_threads(&pending, threads, &|&k| {
             let other_way = sources[k].moved(design, -sources[k].tolerance(tolerances).0);
@@ -240,7 +239,7 @@ pub fn spread_of(
     let changes: Vec<(Change, Estimate)> = (changes.into_iter())
         .map(|found| found.expect("every source found"))
         .collect();
-    let together = Together::of(changes.iter().map(|(c, _)| c));
+    let together = Together::of(&changes);
     let contributors = contributors(sources, &changes, tolerances);
     Ok(summary(contributors, &together, against, solves))
 }
@@ -281,11 +280,11 @@ struct Together {
 }
 
 impl Together {
-    fn of<'a>(changes: impl Iterator<Item = &'a Change>) -> Together {
+    fn of(changes: &[(Change, Estimate)]) -> Together {
         let mut band_sq = vec![0.0; SAMPLES];
         let mut shift = vec![Point::zeros(); SAMPLES];
         let (mut tip_sq, mut tip_shift) = (0.0, Point::zeros());
-        for change in changes {
+        for (change, _) in changes {
             for (sum, d) in band_sq.iter_mut().zip(&change.each_sq) {
                 *sum += d;
             }

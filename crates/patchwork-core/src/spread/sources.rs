@@ -65,8 +65,8 @@ impl Source {
     /// placement, angle or size tolerance above 0): whether a model for
     /// the patches' sources is worth solving.
     pub fn any_patch(design: &Design, t: &Tolerances) -> bool {
-        let moved = [t.placement_mm, t.angle_deg, t.size_mm];
-        !design.patches.is_empty() && moved.iter().any(|tol| *tol > 0.0)
+        let all = Source::all(design, t);
+        all.iter().any(|s| matches!(s, Source::Patch { .. }))
     }
 
     /// Two of `sources` that act as one, where both are there: the wall's

@@ -33,6 +33,37 @@ fn options() -> SimulateOptions {
     }
 }
 
+/// The design solved on `options()`, and the tangent patterns its moved
+/// designs share.
+struct Solved {
+    design: Design,
+    options: SimulateOptions,
+    state: crate::fe::Simulation,
+    patterns: crate::fe::newton::PatternCache,
+}
+
+fn solved() -> Solved {
+    let (design, options) = (design(), options());
+    let state = crate::fe::simulate(&design, &options).unwrap();
+    Solved {
+        design,
+        options,
+        state,
+        patterns: Default::default(),
+    }
+}
+
+impl Solved {
+    fn nominal(&self) -> Nominal<'_> {
+        Nominal {
+            design: &self.design,
+            simulation: &self.state,
+            options: &self.options,
+            patterns: &self.patterns,
+        }
+    }
+}
+
 fn patches_only() -> Tolerances {
     Tolerances {
         pressure_kpa: 0.0,
@@ -228,16 +259,8 @@ fn the_wall_and_the_modulus_together_are_one_wider_wall() {
 /// and within three of its sampling errors (about 7 % at 100 samples).
 #[test]
 fn the_monte_carlo_check_agrees_with_the_linear_spread_of_a_smooth_source() {
-    let d = design();
-    let options = options();
-    let simulation = crate::fe::simulate(&d, &options).unwrap();
-    let patterns = crate::fe::newton::PatternCache::default();
-    let nominal = Nominal {
-        design: &d,
-        simulation: &simulation,
-        options: &options,
-        patterns: &patterns,
-    };
+    let solved = solved();
+    let (simulation, nominal) = (&solved.state, solved.nominal());
     let wall_only = Tolerances {
         placement_mm: 0.0,
         angle_deg: 0.0,
@@ -246,7 +269,7 @@ fn the_monte_carlo_check_agrees_with_the_linear_spread_of_a_smooth_source() {
         modulus_percent: 0.0,
         wall_percent: 5.0,
     };
-    let against = Against::target(&simulation, None).unwrap();
+    let against = Against::target(simulation, None).unwrap();
     let linear = spread_of(&Models::one(nominal), &against, &wall_only, 4).unwrap();
     let check = monte_carlo(
         &nominal,
@@ -279,34 +302,27 @@ fn the_monte_carlo_check_agrees_with_the_linear_spread_of_a_smooth_source() {
 /// slowest of its sources to converge.
 #[test]
 fn the_sources_looser_tolerance_keeps_their_change() {
-    let d = design();
-    let tight = options();
-    let nominal_state = crate::fe::simulate(&d, &tight).unwrap();
-    let patterns = crate::fe::newton::PatternCache::default();
-    let nominal = Nominal {
-        design: &d,
-        simulation: &nominal_state,
-        options: &tight,
-        patterns: &patterns,
-    };
-    let loose = nominal.source_options();
+    let solved = solved();
+    let (d, tight, nominal_state) = (&solved.design, &solved.options, &solved.state);
+    let patterns = &solved.patterns;
+    let loose = solved.nominal().source_options();
     assert_eq!(loose.newton.tolerance, change::SOURCE_TOLERANCE);
     assert!(tight.newton.tolerance < loose.newton.tolerance);
     let source = Source::Patch {
         patch: 1,
         quantity: PatchQuantity::X,
     };
-    let moved = source.moved(&d, 1.0);
+    let moved = source.moved(d, 1.0);
     let samples = nominal_state.centreline.resample(change::SAMPLES).unwrap();
     let change = |options: &SimulateOptions| {
         let solved =
-            crate::fe::simulate_with(&moved, options, Some(&nominal_state), &patterns).unwrap();
+            crate::fe::simulate_with(&moved, options, Some(nominal_state), patterns).unwrap();
         change::change_of(&solved.centreline, &nominal_state.centreline, &samples)
             .unwrap()
             .samples_sq()
             .sqrt()
     };
-    let (exact, looser) = (change(&tight), change(&loose));
+    let (exact, looser) = (change(tight), change(&loose));
     assert!(
         exact > 0.1,
         "the patch moved the centreline: {exact} mm (root-sum-square)"
@@ -320,30 +336,22 @@ fn the_sources_looser_tolerance_keeps_their_change() {
 /// fewer Newton iterations.
 #[test]
 fn the_other_way_starts_from_the_reflected_state() {
-    let d = design();
-    let options = options();
-    let nominal_state = crate::fe::simulate(&d, &options).unwrap();
-    let patterns = crate::fe::newton::PatternCache::default();
-    let nominal = Nominal {
-        design: &d,
-        simulation: &nominal_state,
-        options: &options,
-        patterns: &patterns,
-    };
-    let loose = nominal.source_options();
+    let solved = solved();
+    let (d, nominal_state, patterns) = (&solved.design, &solved.state, &solved.patterns);
+    let loose = solved.nominal().source_options();
     let source = Source::Patch {
         patch: 1,
         quantity: PatchQuantity::X,
     };
     let solve = |delta: f64, start: &crate::fe::Simulation| {
-        crate::fe::simulate_with(&source.moved(&d, delta), &loose, Some(start), &patterns).unwrap()
+        crate::fe::simulate_with(&source.moved(d, delta), &loose, Some(start), patterns).unwrap()
     };
-    let plus = solve(1.0, &nominal_state);
-    let reflected = crate::fe::reflected_start(&nominal_state, &plus).unwrap();
-    let (from_nominal, from_reflected) = (solve(-1.0, &nominal_state), solve(-1.0, &reflected));
+    let plus = solve(1.0, nominal_state);
+    let reflected = crate::fe::reflected_start(nominal_state, &plus).unwrap();
+    let (from_nominal, from_reflected) = (solve(-1.0, nominal_state), solve(-1.0, &reflected));
     let samples = |s: &crate::fe::Simulation| s.centreline.resample(200).unwrap();
     let gap = samples(&from_nominal).largest_gap(&samples(&from_reflected));
-    let moved = samples(&from_nominal).largest_gap(&samples(&nominal_state));
+    let moved = samples(&from_nominal).largest_gap(&samples(nominal_state));
     let iterations = |s: &crate::fe::Simulation| s.stats.iterations;
     eprintln!(
         "P1 X −1 mm: moves the centreline up to {moved:.3} mm; from the nominal {} \
@@ -365,38 +373,31 @@ fn the_other_way_starts_from_the_reflected_state() {
 /// bounded, `SOURCE_STEP_MM`).
 #[test]
 fn the_other_way_of_a_linearised_source_starts_at_second_order() {
-    let d = design();
-    let options = options();
-    let nominal_state = crate::fe::simulate(&d, &options).unwrap();
-    let patterns = crate::fe::newton::PatternCache::default();
-    let loose = Nominal {
-        design: &d,
-        simulation: &nominal_state,
-        options: &options,
-        patterns: &patterns,
-    }
-    .source_options();
-    let moved = |delta: f64| Source::Wall.moved(&d, delta);
+    let solved = solved();
+    let (d, options, nominal_state) = (&solved.design, &solved.options, &solved.state);
+    let patterns = &solved.patterns;
+    let loose = solved.nominal().source_options();
+    let moved = |delta: f64| Source::Wall.moved(d, delta);
     let linearised = crate::fe::sensitivity::linearised_states(
-        &d,
-        &nominal_state,
-        &options,
+        d,
+        nominal_state,
+        options,
         &[moved(5.0)],
         1,
-        &patterns,
+        patterns,
     );
     let linearised = linearised.unwrap().remove(0).unwrap().positions;
     let solve = |delta: f64, start: &crate::fe::Simulation| {
-        crate::fe::simulate_with(&moved(delta), &loose, Some(start), &patterns).unwrap()
+        crate::fe::simulate_with(&moved(delta), &loose, Some(start), patterns).unwrap()
     };
-    let plus = solve(5.0, &nominal_state);
-    let reflected = crate::fe::reflected_start(&nominal_state, &plus).unwrap();
-    let second = crate::fe::second_order_start(&nominal_state, &plus, &linearised).unwrap();
+    let plus = solve(5.0, nominal_state);
+    let reflected = crate::fe::reflected_start(nominal_state, &plus).unwrap();
+    let second = crate::fe::second_order_start(nominal_state, &plus, &linearised).unwrap();
     let (from_reflected, from_second) = (solve(-5.0, &reflected), solve(-5.0, &second));
     let samples = |s: &crate::fe::Simulation| s.centreline.resample(200).unwrap();
     let gap = samples(&from_reflected).largest_gap(&samples(&from_second));
-    let moved_mm = samples(&from_reflected).largest_gap(&samples(&nominal_state));
-    let tight = crate::fe::simulate_with(&moved(-5.0), &options, Some(&nominal_state), &patterns);
+    let moved_mm = samples(&from_reflected).largest_gap(&samples(nominal_state));
+    let tight = crate::fe::simulate_with(&moved(-5.0), options, Some(nominal_state), patterns);
     let tight = samples(&tight.unwrap());
     let iterations = |s: &crate::fe::Simulation| s.stats.iterations;
     eprintln!(
@@ -414,5 +415,5 @@ fn the_other_way_of_a_linearised_source_starts_at_second_order() {
     assert!(iterations(&from_second) < iterations(&from_reflected));
     // A linearised state of another mesh is no start.
     let short = &linearised[1..];
-    assert!(crate::fe::second_order_start(&nominal_state, &plus, short).is_none());
+    assert!(crate::fe::second_order_start(nominal_state, &plus, short).is_none());
 }

@@ -17,10 +17,10 @@ use super::super::outcome::{Expected, RobustSummary, StageName};
 use super::super::refine::RobustRefined;
 use super::super::run::{Context, Run};
 use super::refine::refine_problem;
-use super::spread::{check_by_sampling, on_verify_model, spread_found};
+use super::spread::{check_by_sampling, on_verification, on_verify_model, spread_found};
 use crate::curve::shape_error;
 use crate::fe::{SimulateOptions, Simulation};
-use crate::spread::{Nominal, Source, Spread};
+use crate::spread::{Source, Spread};
 
 /// The most sources the robust refine weighs.
 pub const MAX_SOURCES: usize = 4;
@@ -56,7 +56,6 @@ impl RobustStage {
             None => on_verify_model(run, ctx),
         };
         let verified = run.take_verified("robust")?;
-        let model = run.setup.verify_model;
         let outcome = match &on_model {
             Err(why) => Ok(Err(why.clone())),
             Ok(_) if run.space.dimension() == 0 => {
@@ -81,12 +80,7 @@ impl RobustStage {
         };
         // The check of the design that stands, on the verification model.
         if let Some(on_model) = on_model {
-            let nominal = Nominal {
-                design: &run.design,
-                simulation: &on_model,
-                options: &model,
-                patterns: &ctx.caches.patterns,
-            };
+            let nominal = on_verification(run, ctx, &run.design, &on_model);
             let solves = spread.solves;
             check_by_sampling(&mut spread, &nominal, self.monte_carlo, run, ctx)?;
             run.state.evaluations += spread.solves - solves;
@@ -154,12 +148,7 @@ impl RobustStage {
                 .simulate_from(design, &verified_model(run), Some(verified))
                 .map_err(|e| format!("its result on the {} model: {e}", run.verified_on))?,
         };
-        let nominal = Nominal {
-            design,
-            simulation: &on_model,
-            options: &run.setup.verify_model,
-            patterns: &ctx.caches.patterns,
-        };
+        let nominal = on_verification(run, ctx, design, &on_model);
         let patch_mesh = run.setup.tuning.spread_patch_mesh;
         let spread = spread_found(&run.setup, ctx.caches, nominal, patch_mesh)
             .map_err(|e| format!("its spread: {e}"))?;

@@ -20,6 +20,7 @@
 
 use super::super::errors::DesignRunError;
 use super::super::run::{Context, Run, Setup};
+use crate::design::Design;
 use crate::fe::mesh::MeshSpec;
 use crate::fe::{SimulateOptions, Simulation};
 use crate::inverse::caches::Caches;
@@ -53,12 +54,7 @@ impl SpreadStage {
                 return Ok(());
             }
         };
-        let nominal = Nominal {
-            design: &run.design,
-            simulation: &simulation,
-            options: &run.setup.verify_model,
-            patterns: &ctx.caches.patterns,
-        };
+        let nominal = on_verification(run, ctx, &run.design, &simulation);
         match spread_found(&run.setup, ctx.caches, nominal, self.patch_mesh) {
             Ok(mut spread) => {
                 check_by_sampling(&mut spread, &nominal, self.monte_carlo, run, ctx)?;
@@ -69,6 +65,22 @@ impl SpreadStage {
             Err(error) => run.spread_failed = Some(error.to_string()),
         }
         Ok(())
+    }
+}
+
+/// `design` and `simulation`, its state on the run's verification model,
+/// as a spread's nominal (its moved designs sharing the run's patterns).
+pub(super) fn on_verification<'a>(
+    run: &'a Run<'_>,
+    ctx: &'a Context<'_>,
+    design: &'a Design,
+    simulation: &'a Simulation,
+) -> Nominal<'a> {
+    Nominal {
+        design,
+        simulation,
+        options: &run.setup.verify_model,
+        patterns: &ctx.caches.patterns,
     }
 }
 
