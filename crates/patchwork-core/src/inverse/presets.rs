@@ -117,7 +117,8 @@ const UNIFORM_HALF_MM: MeshRow = MeshRow {
 pub const FINAL_REFINE_STAGING: usize = 60;
 
 /// Fine's Monte-Carlo check of the spread: 200 designs, the sampled RMS
-/// within about 5 % (1/√(2N)) of its expectation.
+/// within about 5 % (1/√(2N)) of its expectation where the changes are
+/// normal-like (the check states its own error from its draws).
 pub const FINE_MONTE_CARLO: usize = 200;
 
 /// The presets. Patience: on the Hilbert curve and the pancake the search
