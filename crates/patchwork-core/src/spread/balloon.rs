@@ -32,7 +32,6 @@ use super::tolerances::Tolerances;
 use crate::curve::{Curve, Point};
 use crate::design::Design;
 use crate::fe::{Simulation, simulate_with};
-use crate::parallel::map_in_threads;
 
 /// Gauss–Hermite nodes (in σ) and weights of the probabilists' rule with
 /// three points, the centre's (weight 2/3, where g = 0) left out.
@@ -88,30 +87,41 @@ impl Joined {
         (self.members.iter()).map(|&(k, c)| (k, (c / self.sigma).powi(2)))
     }
 
-    /// The joined sources' change together, by the quadrature on z (see
-    /// the module comment): the design moved at each node and solved on
-    /// `nominal`, warm-started from the joined linearised states added up
-    /// (`starts`, each at its tolerance), on up to `threads` threads.
-    pub(super) fn change(
+    /// The quadrature's points (in σ): one solve each.
+    pub(super) fn nodes() -> impl Iterator<Item = f64> {
+        NODES.iter().flat_map(|&(n, _)| [n, -n])
+    }
+
+    /// The design moved to node `n` (every joined source at xₖ = n cₖ/σ)
+    /// and solved on `nominal`, warm-started from the joined linearised
+    /// states added up (`starts`, each at its tolerance): its offsets at
+    /// `samples`.
+    pub(super) fn node(
         &self,
         nominal: &Nominal,
+        n: f64,
         (sources, tolerances): (&[Source], &Tolerances),
         starts: &[Option<Vec<Point>>],
         samples: &Curve,
-        threads: usize,
-    ) -> Result<Change, String> {
-        let options = nominal.source_options();
-        let points: Vec<f64> = NODES.iter().flat_map(|&(n, _)| [n, -n]).collect();
-        let moved = map_in_threads(&points, threads, &|&n| {
-            let design = self.moved(nominal.design, n, (sources, tolerances));
-            let start = self.start(nominal.simulation, n, starts);
-            let solved = simulate_with(&design, &options, Some(&start), nominal.patterns)
-                .map_err(|e| format!("the balloon's sources together at {n:+.2} σ: {e}"))?;
-            offsets_of(&solved.centreline, &nominal.simulation.centreline, samples)
-        });
-        let moved: Vec<Offsets> = moved.into_iter().collect::<Result<_, _>>()?;
+    ) -> Result<Offsets, String> {
+        let design = self.moved(nominal.design, n, (sources, tolerances));
+        let start = self.start(nominal.simulation, n, starts);
+        let solved = simulate_with(
+            &design,
+            &nominal.source_options(),
+            Some(&start),
+            nominal.patterns,
+        )
+        .map_err(|e| format!("the balloon's sources together at {n:+.2} σ: {e}"))?;
+        offsets_of(&solved.centreline, &nominal.simulation.centreline, samples)
+    }
+
+    /// The joined sources' change together from their offsets at every
+    /// one of [`Joined::nodes`], in order: the quadrature on z (see the
+    /// module comment).
+    pub(super) fn change(moved: &[Offsets]) -> Change {
         let weights: Vec<f64> = NODES.iter().flat_map(|&(_, w)| [w, w]).collect();
-        Ok(quadrature(&moved, &weights))
+        quadrature(moved, &weights)
     }
 
     /// `design` with every joined source at xₖ = n cₖ/σ of its tolerance.

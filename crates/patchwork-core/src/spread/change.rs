@@ -66,6 +66,11 @@ impl Change {
         self.each_sq.iter().sum()
     }
 
+    /// Its RMS over the samples (mm).
+    pub fn rms_mm(&self) -> f64 {
+        (self.samples_sq() / SAMPLES as f64).sqrt()
+    }
+
     /// The change of a source solved (or linearised) one way only.
     pub fn one_way(moved: &Offsets) -> Change {
         let each_sq: Vec<f64> = moved.residuals.iter().map(|r| r.norm_squared()).collect();

@@ -3,35 +3,19 @@
 //! balloon's sources on one, the patches' on the same or a coarser one).
 //! Every source is first linearised at its nominal state
 //! (`fe::sensitivity`: one factorisation of the tangent, a substitution per
-//! source); those whose linearised change is at least [`SOLVED_FRACTION`]
-//! of the largest change found are then solved both ways — Newton solves
-//! at +tolerance, warm-started from the nominal state (all but a patch's
-//! X from their linearised state, `models::starts_linearised`), and at
-//! −tolerance, started from the first solve less twice the linearised
-//! change (`fe::second_order_start`; a patch's X from the nominal
-//! reflected through the first solve ring by ring, `fe::reflected_start`),
-//! each to a relative residual of `SOURCE_TOLERANCE` with its last move
-//! under `SOURCE_STEP_MM` — and the largest is taken again from
-//! the solved, until every source above the fraction is solved. The
-//! balloon's sources that act as one — the wall and the modulus exactly,
-//! the pressure where its linearised move lies along theirs — are solved
-//! together instead, once one of them is due: two solves at the nodes of
-//! a Gauss–Hermite rule on their joint variable, each source shown with
-//! its share (`balloon.rs`). Where a node's solve fails they are solved
-//! one by one, and of the wall and the modulus only the one with the
-//! larger tolerance; the other reads its change (`Source::equivalent`,
-//! `Change::scaled`). The
-//! linearised response alone misjudges the large sources: it overstates a
-//! patch's placement around the tube up to sixfold and its angle up to
-//! twofold (the tube's soft twist answering a first-order force that its
-//! geometric stiffening holds back), and understates its placement along
-//! it by up to a third; a small source's share of the sum in quadrature is
-//! small, and so is its error's. On seven draft designs of the suite
-//! (`examples/spread_linearised.rs`, docs/studies.md "The spread's
-//! solves"), 3 to 10 of 13 to 28 sources were solved, the RMS spread came
-//! within 1.1 % of every source's solve and the three largest contributors
-//! were the same. Each centreline is compared with the nominal at equal
-//! fractions of length.
+//! source); the large ones are then solved both ways, in rounds
+//! (`rounds.rs`), and the balloon's sources that act as one together
+//! (`balloon.rs`). The linearised response alone misjudges the large
+//! sources: it overstates a patch's placement around the tube up to
+//! sixfold and its angle up to twofold (the tube's soft twist answering a
+//! first-order force that its geometric stiffening holds back), and
+//! understates its placement along it by up to a third; a small source's
+//! share of the sum in quadrature is small, and so is its error's. On
+//! seven draft designs of the suite (`examples/spread_linearised.rs`,
+//! docs/studies.md "The spread's solves"), 3 to 10 of 13 to 28 sources
+//! were solved, the RMS spread came within 1.1 % of every source's solve
+//! and the three largest contributors were the same. Each centreline is
+//! compared with the nominal at equal fractions of length.
 //!
 //! A source solved both ways is read to second order (`change.rs`): its
 //! odd part a and even part b give E|d|² = |a|² + 3|b|² for a normal error
@@ -58,18 +42,17 @@
 use std::sync::atomic::AtomicBool;
 
 use super::answer::{Contributor, Estimate, Spread};
-use super::balloon::{Joined, NODES, apportioned};
-use super::change::{Change, Nominal, SAMPLES, offsets_of};
+use super::balloon::Joined;
+use super::change::{Change, Nominal, SAMPLES};
 use super::models::{Found, Models, OnModels};
 use super::monte_carlo::monte_carlo;
+use super::rounds::{Context, Job, Round};
 use super::sources::Source;
 use super::tolerances::Tolerances;
 use crate::curve::{Curve, Point, shape_error};
 use crate::design::Design;
 use crate::fe::newton::PatternCache;
-use crate::fe::{
-    SimulateError, SimulateOptions, Simulation, reflected_start, second_order_start, simulate_with,
-};
+use crate::fe::{SimulateError, SimulateOptions, Simulation, simulate_with};
 use crate::parallel::map_in_threads;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -170,10 +153,6 @@ fn read_equivalent(changes: &mut [Found], equivalent: Option<(usize, usize, f64)
     }
 }
 
-/// A source whose linearised change is at least this fraction of the
-/// largest change (RMS) is solved; a smaller one keeps its linearised change.
-pub const SOLVED_FRACTION: f64 = 0.5;
-
 /// The spread of a design whose nominal states are known (a design run's
 /// verified simulation, and the patches' coarser one where it has it), on
 /// up to `threads` threads.
@@ -194,46 +173,33 @@ pub fn spread_of(
     let linearised = on.linearised(&sources, &moved, threads);
     let (mut changes, mut solves) = (linearised.changes, linearised.runs);
     let equivalent = Source::equivalent(&sources, tolerances);
-    let mut joined = Joined::of(&sources, &linearised.fields);
+    let mut joint = Joined::of(&sources, &linearised.fields);
     read_equivalent(&mut changes, equivalent);
-    while let Some(mut pending) = to_solve(&changes) {
-        if let Some(j) = joined.take_if(|j| pending.iter().any(|&k| j.has(k))) {
-            pending.retain(|&k| !j.has(k));
-            let (nominal, samples) = on.of(sources[j.members[0].0]);
-            let found = j.change(
-                nominal,
-                (&sources, tolerances),
-                &linearised.starts,
-                samples,
-                threads,
-            );
-            solves += 2 * NODES.len();
-            // Where a node's solve fails, each source is solved on its own.
-            if let Ok(change) = found {
-                for (k, share) in j.shares() {
-                    changes[k] = Some((apportioned(&change, share), Estimate::Combined));
-                }
-            }
-        }
-        // The balloon's sources first (where not found together): their
-        // solves, on the finer model, take longest, and the threads then
-        // share out the patches'.
-        pending.sort_by_key(|&k| matches!(sources[k], Source::Patch { .. }));
-        let solved = map_in_threads(&pending, threads, &|&k| {
-            let other_way = sources[k].moved(design, -sources[k].tolerance(tolerances).0);
-            let (nominal, samples) = on.of(sources[k]);
-            let start = linearised.starts[k].as_deref();
-            solved_change(nominal, (&moved[k], start), &other_way, samples)
-        });
-        for (k, found) in pending.into_iter().zip(solved) {
-            let found = found.map_err(|reason| SpreadError::Moved {
-                label: sources[k].label(),
+    let context = Context {
+        on: &on,
+        sources: &sources,
+        tolerances,
+        moved: &moved,
+        starts: &linearised.starts,
+    };
+    // The balloon's joined sources are solved in the first round whatever
+    // their linearised size: theirs is the response least linear.
+    while let Some(round) = Round::next(&changes, joint.take()) {
+        let jobs = round.jobs(&sources);
+        let done = map_in_threads(&jobs, threads, &|&job| context.solve(job));
+        // Each source both ways, each node once (a failed solve counted).
+        solves += (jobs.iter())
+            .map(|job| match job {
+                Job::Node(..) => 1,
+                Job::Source(_) => 2,
+            })
+            .sum::<usize>();
+        context
+            .take(&round, done, &mut changes)
+            .map_err(|(source, reason)| SpreadError::Moved {
+                label: source.label(),
                 reason,
             })?;
-            changes[k] = Some(found);
-            // Both ways, the second solve counted where it failed too.
-            solves += 2;
-        }
         read_equivalent(&mut changes, equivalent);
     }
     let changes: Vec<(Change, Estimate)> = (changes.into_iter())
@@ -258,7 +224,7 @@ fn contributors(
                 label: source.label(),
                 tolerance,
                 unit: unit.into(),
-                rms_mm: rms(change),
+                rms_mm: change.rms_mm(),
                 tip_mm: change.tip_mm,
                 shift_mm: rms_of(&change.shift),
                 estimate: *estimate,
@@ -304,68 +270,6 @@ impl Together {
             mean_shift_mm: rms_of(&shift),
         }
     }
-}
-
-/// The sources to solve next: those without a change, and those linearised
-/// at `SOLVED_FRACTION` of the largest change or more; none when no source
-/// is left to solve.
-fn to_solve(changes: &[Found]) -> Option<Vec<usize>> {
-    let largest = changes
-        .iter()
-        .flatten()
-        .map(|(c, _)| rms(c))
-        .fold(0.0, f64::max);
-    let pending: Vec<usize> = (0..changes.len())
-        .filter(|&k| match &changes[k] {
-            None => true,
-            Some((c, Estimate::Linearised)) => rms(c) >= SOLVED_FRACTION * largest,
-            Some((_, Estimate::Solved | Estimate::BothWays)) => false,
-            Some((_, Estimate::Equivalent | Estimate::Combined)) => false,
-        })
-        .collect();
-    (!pending.is_empty()).then_some(pending)
-}
-
-/// A source's change by Newton solves at `plus` (warm-started from
-/// `plus_start`, its linearised positions, where given, else from the
-/// nominal state) and at `other_way` (started from the first less twice
-/// the linearised change where `plus_start` is given,
-/// `fe::second_order_start`, else from the nominal reflected through the
-/// first, `fe::reflected_start`). Where the second solve
-/// fails the first one's change stands alone (`Solved`).
-fn solved_change(
-    nominal: &Nominal,
-    (plus, plus_start): (&Design, Option<&[Point]>),
-    other_way: &Design,
-    samples: &Curve,
-) -> Result<(Change, Estimate), String> {
-    let options = nominal.source_options();
-    let home = &nominal.simulation.centreline;
-    let solve = |design: &Design, start: &Simulation| {
-        simulate_with(design, &options, Some(start), nominal.patterns).map_err(|e| e.to_string())
-    };
-    let linearised = plus_start.map(|positions| Simulation {
-        positions: positions.to_vec(),
-        ..nominal.simulation.clone()
-    });
-    let plus_state = solve(plus, linearised.as_ref().unwrap_or(nominal.simulation))?;
-    let plus_offsets = offsets_of(&plus_state.centreline, home, samples)?;
-    // Where the linearisation answers closely, at second order from it;
-    // else the nominal reflected ring by ring through the first solve.
-    let second =
-        plus_start.and_then(|lin| second_order_start(nominal.simulation, &plus_state, lin));
-    let start = second.or_else(|| reflected_start(nominal.simulation, &plus_state));
-    let minus = solve(other_way, start.as_ref().unwrap_or(nominal.simulation))
-        .and_then(|state| offsets_of(&state.centreline, home, samples));
-    Ok(match minus {
-        Ok(minus) => (Change::both_ways(&plus_offsets, &minus), Estimate::BothWays),
-        Err(_) => (Change::one_way(&plus_offsets), Estimate::Solved),
-    })
-}
-
-/// A change's RMS over the samples (mm).
-fn rms(change: &Change) -> f64 {
-    (change.samples_sq() / SAMPLES as f64).sqrt()
 }
 
 /// The RMS over the samples of moves given at each (mm; 0 where none are).

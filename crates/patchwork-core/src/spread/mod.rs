@@ -24,14 +24,16 @@ mod change;
 mod linear;
 mod models;
 mod monte_carlo;
+mod rounds;
 mod sources;
 mod tolerances;
 
 pub use answer::{Contributor, Estimate, MonteCarlo, Spread};
 pub use change::{Change, Nominal, Offsets, SOURCE_TOLERANCE, offsets_of};
-pub use linear::{Against, Check, SOLVED_FRACTION, SpreadError, linear_spread, spread_of};
+pub use linear::{Against, Check, SpreadError, linear_spread, spread_of};
 pub use models::Models;
 pub use monte_carlo::{AGREEMENT, monte_carlo};
+pub use rounds::SOLVED_FRACTION;
 pub use sources::{PatchQuantity, SOURCES_PER_PATCH, Source};
 pub use tolerances::Tolerances;
 
