@@ -11,7 +11,7 @@ use std::f64::consts::PI;
 
 use patchwork_core::curve::{Curve, Point};
 use patchwork_core::design::Design;
-use patchwork_core::fe::newton::PatternCache;
+use patchwork_core::fe::newton::{PatternCache, Steps};
 use patchwork_core::fe::sensitivity::linearised_centrelines;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate_with};
 use patchwork_core::inverse::Fidelity;
@@ -111,6 +111,7 @@ impl<'a> Along<'a> {
             .collect();
         let mut loose = options.newton;
         (loose.tolerance, loose.step_tolerance) = (SOURCE_TOLERANCE, 0.1);
+        loose.steps = Steps::Rings;
         Along {
             design,
             nominal,

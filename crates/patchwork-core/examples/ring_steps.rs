@@ -5,8 +5,8 @@
 //! (every patch's X, Y by up to ±`MOVE_MM`, Θ by up to ±`MOVE_DEG`,
 //! seeded), warm-started from the nominal. The cold solves and the moves
 //! are solved to the default residual (1e-9) both ways; the sources also to
-//! the spread's residual (`SOURCE_TOLERANCE`), with and without a bound on
-//! the last iteration's move (`SOURCE_STEP_MM`). Per kind of solve and
+//! a loose residual (`LOOSE`, 1e-5), with and without a bound on the last
+//! iteration's move (`SOURCE_STEP_MM`). Per kind of solve and
 //! rule: Newton iterations and time, and the largest distance of its
 //! centreline from the linear 1e-9 solve's (same fractions of length).
 //!
@@ -20,7 +20,7 @@ use patchwork_core::design::Design;
 use patchwork_core::fe::mesh::MeshSpec;
 use patchwork_core::fe::newton::{PatternCache, Steps};
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate, simulate_with};
-use patchwork_core::spread::{SOURCE_TOLERANCE, Source, Tolerances};
+use patchwork_core::spread::{Source, Tolerances};
 
 #[path = "common/design_json.rs"]
 mod design_json;
@@ -28,7 +28,10 @@ mod design_json;
 const PERTURBED: usize = 6;
 const MOVE_MM: f64 = 1.0;
 const MOVE_DEG: f64 = 3.0;
-/// The bound on the last iteration's largest move tried with the spread's
+/// The loose residual compared with 1e-9 (the spread's solves step ring
+/// by ring to `spread::SOURCE_TOLERANCE`, 1e-7, their last move bounded).
+const LOOSE: f64 = 1e-5;
+/// The bound on the last iteration's largest move tried with the loose
 /// residual (mm).
 const SOURCE_STEP_MM: f64 = 1e-3;
 
@@ -108,7 +111,7 @@ fn perturbed(design: &Design, rng: &mut SeededRng) -> Design {
 }
 
 fn main() {
-    let loose = format!("residual {SOURCE_TOLERANCE:e}");
+    let loose = format!("residual {LOOSE:e}");
     let bounded = format!("{loose}, last move ≤ {SOURCE_STEP_MM} mm");
     let rules: Vec<(String, SimulateOptions)> = vec![
         (
@@ -121,19 +124,19 @@ fn main() {
         ),
         (
             format!("linear, {loose}"),
-            options(Steps::Linear, SOURCE_TOLERANCE, f64::INFINITY),
+            options(Steps::Linear, LOOSE, f64::INFINITY),
         ),
         (
             format!("rings, {loose}"),
-            options(Steps::Rings, SOURCE_TOLERANCE, f64::INFINITY),
+            options(Steps::Rings, LOOSE, f64::INFINITY),
         ),
         (
             format!("linear, {bounded}"),
-            options(Steps::Linear, SOURCE_TOLERANCE, SOURCE_STEP_MM),
+            options(Steps::Linear, LOOSE, SOURCE_STEP_MM),
         ),
         (
             format!("rings, {bounded}"),
-            options(Steps::Rings, SOURCE_TOLERANCE, SOURCE_STEP_MM),
+            options(Steps::Rings, LOOSE, SOURCE_STEP_MM),
         ),
     ];
     let tolerances = Tolerances::default();
