@@ -124,10 +124,10 @@ pub fn section(curves: &[Row], sure: &[SureRow]) -> String {
     if !draft.is_empty() {
         s.push_str(
             "Every design reports its spread at the default tolerances (every patch quantity \
-             and the balloon's three linearised at once, those at half the largest change or \
-             more solved at + and − their tolerance: the balloon's on the verification model, the \
-             patches' on graded 2 mm). Its cost in the \
-             suite's `draft` runs above:\n\n\
+             and the balloon's three linearised at once; the balloon's solved together at two \
+             points of their joint variable on the verification model, the patches' at half the \
+             largest change or more at + and − their tolerance on graded 2 mm; a round's solves \
+             shared out over the threads). Its cost in the suite's `draft` runs above:\n\n\
              | curve | spread % of length | spread stage s | share of the run |\n|---|---|---|---|\n",
         );
     }

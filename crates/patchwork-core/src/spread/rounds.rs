@@ -13,9 +13,10 @@
 //! together in the first round whatever their linearised size: two solves
 //! at the nodes of a Gauss–Hermite rule on their joint variable, each
 //! source shown with its share (`balloon.rs`). Where a node's solve fails
-//! they are solved one by one, and of the wall and the modulus only the
-//! one with the larger tolerance; the other reads its change
-//! (`Source::equivalent`, `Change::scaled`).
+//! they are taken one by one as the other sources are (solved where due),
+//! and of the wall and the modulus only the one with the larger
+//! tolerance; the other reads its change (`Source::equivalent`,
+//! `Change::scaled`).
 //!
 //! A round's solves share the threads as one list, each solve on one
 //! thread, the longest first (the joined nodes, on the finer model and
