@@ -254,6 +254,36 @@ fn the_wall_and_the_modulus_together_are_one_wider_wall() {
     assert!((share(Source::Modulus) - 9.0 / 34.0).abs() < 5e-3);
 }
 
+/// The balloon's joined sources are solved in the first round whatever
+/// their linearised size: at a twenty-fifth of their default tolerances
+/// their change is a small part of the critical patch's, and they are
+/// still found together (`Estimate::Combined`), not left linearised; the
+/// critical patch still ranks first.
+#[test]
+fn the_balloon_is_solved_together_however_small() {
+    let small = Tolerances {
+        pressure_kpa: 0.02,
+        wall_percent: 0.2,
+        modulus_percent: 0.12,
+        ..Tolerances::default()
+    };
+    let spread = linear_spread(&design(), None, &small, (&options(), None), 2, None).unwrap();
+    let first = &spread.contributors[0];
+    assert!(
+        matches!(first.source, Source::Patch { patch: 1, .. }),
+        "{first:?}"
+    );
+    for source in [Source::Wall, Source::Modulus] {
+        let c = spread.contributors.iter().find(|c| c.source == source);
+        let c = c.expect("a contributor");
+        assert_eq!(c.estimate, Estimate::Combined, "{c:?}");
+        assert!(
+            c.rms_mm < SOLVED_FRACTION * first.rms_mm,
+            "{c:?} against {first:?}"
+        );
+    }
+}
+
 /// One smooth source alone (the wall, ±5 %), 100 seeded samples solved in
 /// full: the sampled RMS is the linear one within the check's agreement,
 /// and within three of its sampling errors (about 7 % at 100 samples).
