@@ -89,6 +89,8 @@ pub(super) fn refine_corrected(
         correction_solves: 1,
         ..RefineSummary::default()
     };
+    // `best`'s state on the verification model.
+    let mut best_on_model = simulation.clone();
     let (mut design, mut coarse) = (start, simulation);
     // The correction is a constant, so every round's residuals have the
     // same Jacobian: a round goes on from the last round's.
@@ -131,6 +133,7 @@ pub(super) fn refine_corrected(
             break;
         }
         best = verified;
+        best_on_model = coarse.clone();
         if problem.deadline.passed() {
             break;
         }
@@ -141,6 +144,7 @@ pub(super) fn refine_corrected(
         simulation: best.simulation,
         summary: Some(totals),
         jacobian,
+        on_verification: Some(best_on_model),
     })
 }
 

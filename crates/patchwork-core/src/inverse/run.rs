@@ -266,6 +266,10 @@ pub struct Run<'a> {
     /// `design` simulated on `verified_on`, once the verify stage ran.
     pub verified: Option<Simulation>,
     pub verified_on: MeshSpec,
+    /// A design and its state on the verification model, where a refine
+    /// verified it on a finer model: the spread starts from it while the
+    /// design is still that one, instead of solving it again.
+    pub on_verification: Option<(Design, Simulation)>,
     pub refine: Option<RefineSummary>,
     /// The refine's last Jacobian, per unit of each variable, for the final
     /// refine to start from.
@@ -314,6 +318,7 @@ impl<'a> Run<'a> {
             termination: SearchEnd::Optimizer(Termination::MaxEvaluations),
             polished: None,
             verified: None,
+            on_verification: None,
             refine: None,
             jacobian: None,
             final_refine: None,

@@ -101,6 +101,9 @@ pub(super) struct Refined {
     /// of balloon length), since the next refine's unit cube is centred on
     /// its own start and may span other ranges.
     pub jacobian: Option<DMatrix<f64>>,
+    /// `design`'s state on the verification model where `simulation` is
+    /// on a finer one (the correction's); none where the refine has none.
+    pub on_verification: Option<Simulation>,
 }
 
 impl RefineProblem<'_> {
@@ -243,6 +246,7 @@ impl<'p> ShapeResiduals<'p> {
             simulation,
             summary: None,
             jacobian: None,
+            on_verification: None,
         };
         // A start beyond a fabrication limit is brought within it first, for
         // one solve of the budget.
@@ -264,6 +268,7 @@ impl<'p> ShapeResiduals<'p> {
                     simulation,
                     summary: None,
                     jacobian: None,
+                    on_verification: None,
                 });
             }
         };
@@ -300,6 +305,7 @@ impl<'p> ShapeResiduals<'p> {
             }),
             simulation: solution.best.state,
             jacobian: solution.jacobian.map(|j| self.per_cube(j, false)),
+            on_verification: None,
         })
     }
 

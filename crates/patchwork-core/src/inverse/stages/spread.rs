@@ -140,8 +140,9 @@ pub(super) fn check_by_sampling(
 }
 
 /// The run's design on the verification model: its verified state where it
-/// was verified there, else solved from it (counted); why not, where that
-/// fails.
+/// was verified there, the refine's state of it there where the refine
+/// verified it on a finer model, else solved from its verified state
+/// (counted); why not, where that fails.
 pub(super) fn on_verify_model(run: &mut Run<'_>, ctx: &Context<'_>) -> Result<Simulation, String> {
     let verified = run
         .verified
@@ -149,6 +150,11 @@ pub(super) fn on_verify_model(run: &mut Run<'_>, ctx: &Context<'_>) -> Result<Si
         .ok_or("the design was not verified before the spread")?;
     if run.verified_on == run.setup.tuning.verify_mesh {
         return Ok(verified.clone());
+    }
+    if let Some((design, state)) = &run.on_verification
+        && *design == run.design
+    {
+        return Ok(state.clone());
     }
     let options = &run.setup.verify_model;
     let solved = (ctx.caches).simulate_from(&run.design, options, Some(verified));
