@@ -11,11 +11,11 @@ use std::f64::consts::PI;
 
 use patchwork_core::curve::{Curve, Point};
 use patchwork_core::design::Design;
-use patchwork_core::fe::newton::{PatternCache, Steps};
+use patchwork_core::fe::newton::PatternCache;
 use patchwork_core::fe::sensitivity::linearised_centrelines;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate_with};
 use patchwork_core::inverse::Fidelity;
-use patchwork_core::spread::{SOURCE_TOLERANCE, Source, Tolerances, offsets_of};
+use patchwork_core::spread::{Nominal, Source, Tolerances, offsets_of};
 
 #[path = "common/design_json.rs"]
 mod design_json;
@@ -109,16 +109,16 @@ impl<'a> Along<'a> {
         let cosines = (fields.iter().zip(&along))
             .map(|(f, a)| a / dot(f, f).sqrt())
             .collect();
-        let mut loose = options.newton;
-        (loose.tolerance, loose.step_tolerance) = (SOURCE_TOLERANCE, 0.1);
-        loose.steps = Steps::Rings;
+        let spread = Nominal {
+            design,
+            simulation: nominal,
+            options,
+            patterns,
+        };
         Along {
             design,
             nominal,
-            options: SimulateOptions {
-                newton: loose,
-                ..*options
-            },
+            options: spread.source_options(),
             patterns,
             samples,
             sources,

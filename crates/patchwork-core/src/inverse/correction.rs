@@ -144,7 +144,7 @@ pub(super) fn refine_corrected(
         simulation: best.simulation,
         summary: Some(totals),
         jacobian,
-        on_verification: Some(best_on_model),
+        verify_model_state: Some(best_on_model),
     })
 }
 

@@ -269,7 +269,7 @@ pub struct Run<'a> {
     /// A design and its state on the verification model, where a refine
     /// verified it on a finer model: the spread starts from it while the
     /// design is still that one, instead of solving it again.
-    pub on_verification: Option<(Design, Simulation)>,
+    pub verify_model_state: Option<(Design, Simulation)>,
     pub refine: Option<RefineSummary>,
     /// The refine's last Jacobian, per unit of each variable, for the final
     /// refine to start from.
@@ -318,7 +318,7 @@ impl<'a> Run<'a> {
             termination: SearchEnd::Optimizer(Termination::MaxEvaluations),
             polished: None,
             verified: None,
-            on_verification: None,
+            verify_model_state: None,
             refine: None,
             jacobian: None,
             final_refine: None,

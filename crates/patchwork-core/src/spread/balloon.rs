@@ -185,18 +185,7 @@ fn quadrature(moved: &[Offsets], weights: &[f64]) -> Change {
 /// independent sources are (`linear::Together`), give back the whole.
 pub(super) fn apportioned(change: &Change, share: f64) -> Change {
     let part = |sq: f64, b: &Point| share * (sq - b.norm_squared()) + (share * b).norm_squared();
-    let none = Point::zeros();
-    let each_sq = (change.each_sq.iter().enumerate())
-        .map(|(i, &sq)| part(sq, change.shift.get(i).unwrap_or(&none)))
-        .collect();
-    Change {
-        each_sq,
-        tip_mm: part(change.tip_mm.powi(2), &change.tip_shift)
-            .max(0.0)
-            .sqrt(),
-        shift: change.shift.iter().map(|b| b * share).collect(),
-        tip_shift: change.tip_shift * share,
-    }
+    change.reread(part, share)
 }
 
 #[cfg(test)]

@@ -40,15 +40,22 @@ impl Change {
             let odd_sq = (sq - 3.0 * b.norm_squared()).max(0.0);
             s * s * odd_sq + 3.0 * s.powi(4) * b.norm_squared()
         };
+        self.reread(read, s * s)
+    }
+
+    /// This change read again point by point: each expected square (at
+    /// every sample and at the tip) from `read`(its square, its mean
+    /// move), and every mean move times `mean`.
+    pub(super) fn reread(&self, read: impl Fn(f64, &Point) -> f64, mean: f64) -> Change {
         let none = Point::zeros();
         let each_sq = (self.each_sq.iter().enumerate())
             .map(|(i, &sq)| read(sq, self.shift.get(i).unwrap_or(&none)))
             .collect();
         Change {
             each_sq,
-            tip_mm: read(self.tip_mm.powi(2), &self.tip_shift).sqrt(),
-            shift: self.shift.iter().map(|b| b * s * s).collect(),
-            tip_shift: self.tip_shift * s * s,
+            tip_mm: read(self.tip_mm.powi(2), &self.tip_shift).max(0.0).sqrt(),
+            shift: self.shift.iter().map(|b| b * mean).collect(),
+            tip_shift: self.tip_shift * mean,
         }
     }
 }

@@ -187,13 +187,7 @@ pub fn spread_of(
     while let Some(round) = Round::next(&changes, joint.take()) {
         let jobs = round.jobs(&sources);
         let done = map_in_threads(&jobs, threads, &|&job| context.solve(job));
-        // Each source both ways, each node once (a failed solve counted).
-        solves += (jobs.iter())
-            .map(|job| match job {
-                Job::Node(..) => 1,
-                Job::Source(_) => 2,
-            })
-            .sum::<usize>();
+        solves += jobs.iter().map(Job::solves).sum::<usize>();
         context
             .take(&round, done, &mut changes)
             .map_err(|(source, reason)| SpreadError::Moved {

@@ -51,6 +51,17 @@ pub(super) enum Job<'a> {
     Source(usize),
 }
 
+impl Job<'_> {
+    /// The FE solves it takes: a node one, a source two (each way; a
+    /// failed solve counted).
+    pub(super) fn solves(&self) -> usize {
+        match self {
+            Job::Node(..) => 1,
+            Job::Source(_) => 2,
+        }
+    }
+}
+
 /// What a job found: a node's offsets, or source k's change.
 pub(super) enum Done {
     Node(Result<Offsets, String>),

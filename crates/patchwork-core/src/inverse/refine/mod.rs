@@ -103,7 +103,7 @@ pub(super) struct Refined {
     pub jacobian: Option<DMatrix<f64>>,
     /// `design`'s state on the verification model where `simulation` is
     /// on a finer one (the correction's); none where the refine has none.
-    pub on_verification: Option<Simulation>,
+    pub verify_model_state: Option<Simulation>,
 }
 
 impl RefineProblem<'_> {
@@ -246,7 +246,7 @@ impl<'p> ShapeResiduals<'p> {
             simulation,
             summary: None,
             jacobian: None,
-            on_verification: None,
+            verify_model_state: None,
         };
         // A start beyond a fabrication limit is brought within it first, for
         // one solve of the budget.
@@ -268,7 +268,7 @@ impl<'p> ShapeResiduals<'p> {
                     simulation,
                     summary: None,
                     jacobian: None,
-                    on_verification: None,
+                    verify_model_state: None,
                 });
             }
         };
@@ -305,7 +305,7 @@ impl<'p> ShapeResiduals<'p> {
             }),
             simulation: solution.best.state,
             jacobian: solution.jacobian.map(|j| self.per_cube(j, false)),
-            on_verification: None,
+            verify_model_state: None,
         })
     }
 

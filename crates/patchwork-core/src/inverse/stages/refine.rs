@@ -41,7 +41,7 @@ impl Refine {
         let (refined, solves) = self.refine_from(run, ctx, start, freedom, StageName::Refine)?;
         let verified_on = self.verified_on(run, &refined);
         run.verified_on = verified_on;
-        run.on_verification = (refined.on_verification).map(|s| (refined.design.clone(), s));
+        run.verify_model_state = (refined.verify_model_state).map(|s| (refined.design.clone(), s));
         run.design = refined.design;
         run.verified = Some(refined.simulation);
         run.jacobian = refined.jacobian;

@@ -151,7 +151,7 @@ pub(super) fn on_verify_model(run: &mut Run<'_>, ctx: &Context<'_>) -> Result<Si
     if run.verified_on == run.setup.tuning.verify_mesh {
         return Ok(verified.clone());
     }
-    if let Some((design, state)) = &run.on_verification
+    if let Some((design, state)) = &run.verify_model_state
         && *design == run.design
     {
         return Ok(state.clone());
