@@ -93,6 +93,15 @@ fn stages_line(r: &DesignReport) -> String {
 /// One line on a refine stage (empty when it did not run).
 fn refine_line(label: &str, refine: Option<&RefineSummary>) -> String {
     match refine {
+        Some(refine)
+            if refine.solves == 0
+                && refine.shape_error_before_percent <= refine.tolerance_percent =>
+        {
+            format!(
+                "{label} none needed: shape error {:.2} % is within the refine tolerance {} %\n",
+                refine.shape_error_before_percent, refine.tolerance_percent
+            )
+        }
         Some(refine) if refine.solves == 0 => {
             format!("{label} none: one step needs 2 solves, a Jacobian and a trial (--refine)\n")
         }

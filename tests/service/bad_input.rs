@@ -182,6 +182,14 @@ async fn bad_job_requests_are_4xx_problems_naming_the_field() {
             "tuning.kappa_tol",
         ),
         (
+            json!({"curve": {"preset": "arc"}, "tuning": {"refine_tolerance": -0.1}}),
+            "tuning.refine_tolerance",
+        ),
+        (
+            json!({"curve": {"preset": "arc"}, "tuning": {"refine_tolerance": 80}}),
+            "tuning.refine_tolerance",
+        ),
+        (
             json!({"curve": {"preset": "arc"}, "tuning": {"uniform_mesh_mm": 50}}),
             "tuning.uniform_mesh_mm",
         ),

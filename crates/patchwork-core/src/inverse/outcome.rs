@@ -229,6 +229,10 @@ pub struct RefineSummary {
     /// Solves on that finer model.
     #[serde(default)]
     pub correction_solves: usize,
+    /// The shape error (%) at or below which the refine stopped, the design
+    /// then as close as asked (`refine_tolerance`; 0: none).
+    #[serde(default)]
+    pub tolerance_percent: f64,
 }
 
 /// The result of a design run.

@@ -289,6 +289,10 @@ pub const MIN_UNIFORM_MESH_MM: f64 = 0.1;
 /// The most designs a Monte-Carlo check of the spread may draw.
 pub const MAX_MONTE_CARLO: usize = 5000;
 
+/// The largest refine tolerance a request may set, % of the target's
+/// length: a design that far off is no design.
+pub const MAX_REFINE_TOLERANCE: f64 = 50.0;
+
 /// The overrides' own ranges, before they are laid over a preset.
 fn check_overrides(overrides: &TuningOverrides) -> Result<(), SettingsError> {
     if let Some(mesh_mm) = overrides.uniform_mesh_mm
@@ -313,6 +317,16 @@ fn check_overrides(overrides: &TuningOverrides) -> Result<(), SettingsError> {
         return Err(SettingsError::new(
             "tuning.kappa_tol",
             format!("must be a positive number, got {kappa_tol}"),
+        ));
+    }
+    if let Some(tolerance) = overrides.refine_tolerance
+        && !(tolerance.is_finite() && (0.0..=MAX_REFINE_TOLERANCE).contains(&tolerance))
+    {
+        return Err(SettingsError::new(
+            "tuning.refine_tolerance",
+            format!(
+                "must be from 0 to {MAX_REFINE_TOLERANCE} (% of the target's length), got {tolerance}"
+            ),
         ));
     }
     Ok(())

@@ -102,3 +102,21 @@ fn the_checks_and_the_robust_refine_follow_the_spread() {
     let refused = Plan::resolve(UserSettings::default(), &unspread).unwrap_err();
     assert_eq!(refused.field, "tuning.robust");
 }
+
+/// A refine tolerance given replaces the preset's; one outside 0–50 % is
+/// refused, naming the field.
+#[test]
+fn the_refine_tolerance_is_the_request_s_within_range() {
+    let set = |t: f64| TuningOverrides {
+        refine_tolerance: Some(t),
+        ..TuningOverrides::default()
+    };
+    let tuning = |p: Plan| p.tuning().refine_tolerance;
+    assert_eq!(tuning(plan(Fidelity::Standard, set(0.0))), 0.0);
+    assert_eq!(tuning(plan(Fidelity::Fine, set(0.3))), 0.3);
+    for bad in [-0.1, 51.0, f64::NAN] {
+        let settings = UserSettings::default();
+        let refused = Plan::resolve(settings, &set(bad)).unwrap_err();
+        assert_eq!(refused.field, "tuning.refine_tolerance", "{bad}");
+    }
+}

@@ -102,6 +102,12 @@ pub struct Tuning {
     /// Solves of the Levenberg–Marquardt refine on the shape error, the final
     /// refine's included (0: none). Not checkpointed.
     pub refine_budget: usize,
+    /// The shape error (% of the target's length) at or below which the
+    /// refines stop (the correction's rounds and the final refine too): the
+    /// design is as close as asked, and steps beyond it follow the model's
+    /// discretisation error more than the balloon (0: refine until a step
+    /// gains less than 0.002 % or the budget is spent).
+    pub refine_tolerance: f64,
     /// A finer model that corrects the refine's aim and verifies its result
     /// (output space mapping, `correction.rs`); none: the refine and the
     /// verification are the verification model's.
@@ -137,6 +143,7 @@ impl Default for Tuning {
             robust_budget: 0,
             polish_budget: 0,
             refine_budget: 0,
+            refine_tolerance: 0.0,
             correction_mesh: None,
             final_refine: None,
         }
@@ -236,6 +243,9 @@ pub struct TuningOverrides {
     pub polish_budget: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub refine_budget: Option<usize>,
+    /// The shape error (%) at or below which the refines stop (0: none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refine_tolerance: Option<f64>,
     /// false: no correction of the refine by a finer model.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub correction: Option<bool>,
@@ -289,6 +299,7 @@ impl TuningOverrides {
         set(&mut tuning.refine_budget, self.refine_budget);
         set(&mut tuning.monte_carlo, self.monte_carlo);
         tuning.initial_step = self.initial_step.unwrap_or(tuning.initial_step);
+        tuning.refine_tolerance = self.refine_tolerance.unwrap_or(tuning.refine_tolerance);
         tuning.start = self.start.unwrap_or(tuning.start);
         tuning.warm_starts = self.warm_starts.unwrap_or(tuning.warm_starts);
         tuning.rod_search = self.rod_search.unwrap_or(tuning.rod_search);

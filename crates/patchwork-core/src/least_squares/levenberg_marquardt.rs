@@ -20,12 +20,14 @@
 //! too: the secant has drifted, and a fresh Jacobian costs one evaluation.
 //! A fresh Jacobian starts from a damping no higher than the first.
 //!
-//! Stops: when the budget cannot pay the next evaluation (or the next
-//! Jacobian and a step after it), when the problem is out of time (before
-//! its next evaluation), or when a *fresh* Jacobian fails — its
-//! accepted step gains less than `min_gain` (or `resolution`), its damping passes
-//! `max_damping`, or its step does not move. So every stop but the
-//! budget's is confirmed by a fresh Jacobian at the final point.
+//! Stops: when an iterate meets `target` (|r| at or below it: good
+//! enough, whatever the Jacobian), when the budget cannot pay the next
+//! evaluation (or the next Jacobian and a step after it), when the problem
+//! is out of time (before its next evaluation), or when a *fresh* Jacobian
+//! fails — its accepted step gains less than `min_gain` (or `resolution`),
+//! its damping passes `max_damping`, or its step does not move. So every
+//! stop but the target's and the budget's is confirmed by a fresh Jacobian
+//! at the final point.
 
 use nalgebra::DMatrix;
 
@@ -49,6 +51,9 @@ pub struct Settings {
     /// units) counts as one below `min_gain`: where |r| is a measured
     /// quantity, the size of change too small to matter (0: none).
     pub resolution: f64,
+    /// An iterate whose |r| is at or below this ends the run: the fit is
+    /// good enough (0: none).
+    pub target: f64,
     /// Rejected steps in a row after which a secant Jacobian is refreshed.
     pub stale_rejections: usize,
     /// A secant step accepted with a gain ratio below this refreshes a
@@ -66,6 +71,7 @@ impl Default for Settings {
             max_damping: 1e6,
             min_gain: 1e-3,
             resolution: 0.0,
+            target: 0.0,
             stale_rejections: 3,
             secant_ratio: SECANT_RATIO,
             threads: 1,
@@ -144,7 +150,7 @@ pub fn minimise<P: Residuals>(
         counts: Counts::default(),
         on_progress,
     };
-    while n > 0 && run.counts.evaluations < budget {
+    while n > 0 && run.counts.evaluations < budget && !run.good_enough() {
         if run.refresh && !run.take_jacobian()? {
             break;
         }
@@ -282,6 +288,9 @@ impl<P: Residuals> Minimiser<'_, P> {
         self.damping = (self.damping * damping_factor(ratio)).max(1e-9);
         self.counts.iterations += 1;
         self.report();
+        if self.good_enough() {
+            return After::Stop;
+        }
         if gain < self.settings.min_gain || lowered < self.settings.resolution {
             return self.refresh_unless(fresh);
         }
@@ -299,6 +308,11 @@ impl<P: Residuals> Minimiser<'_, P> {
         }
         self.refresh = true;
         After::Continue
+    }
+
+    /// Whether the current iterate meets `target`.
+    fn good_enough(&self) -> bool {
+        self.current.error <= self.settings.target
     }
 
     fn check_cancelled(&self) -> Result<(), Cancelled> {

@@ -78,6 +78,10 @@ pub(super) struct RefineProblem<'a> {
     pub bounds: &'a VariableBounds,
     /// The balloon length is a variable too (the request does not fix it).
     pub free_length: bool,
+    /// The shape error (% of the target's length) at or below which the
+    /// refine stops: the design is then as close as needed (0: none;
+    /// `Tuning::refine_tolerance`).
+    pub tolerance: f64,
     /// Added to the model's residuals: a finer model's correction
     /// ([`super::correction`], as [`SpaceMapped`]); none for the model as it is.
     pub correction: Option<&'a DVector<f64>>,
@@ -275,6 +279,7 @@ impl<'p> ShapeResiduals<'p> {
         let settings = least_squares::Settings {
             threads: self.problem.threads,
             resolution: RESOLUTION_PERCENT,
+            target: self.problem.tolerance,
             ..least_squares::Settings::default()
         };
         let jacobian = jacobian.map(|j| self.per_cube(j, true));
@@ -302,6 +307,7 @@ impl<'p> ShapeResiduals<'p> {
                 variables: self.ranges.len(),
                 corrected_on_element_mm: None,
                 correction_solves: 0,
+                tolerance_percent: self.problem.tolerance,
             }),
             simulation: solution.best.state,
             jacobian: solution.jacobian.map(|j| self.per_cube(j, false)),

@@ -47,6 +47,7 @@ impl OnePatch {
             freedom: Freedom::default(),
             bounds: &self.bounds,
             free_length,
+            tolerance: 0.0,
             correction: None,
             threads: 2,
             cancel: &self.cancel,
@@ -148,4 +149,32 @@ fn a_start_beyond_the_limits_is_refined_within_them() {
     let again = simulate(&refined.design, &scene.model).unwrap();
     let gap = again.centreline.largest_gap(&refined.simulation.centreline);
     assert!(gap < 1e-3, "{gap} mm");
+}
+
+/// The refine tolerance: refined to it, the one-patch scene stops at a
+/// shape error within it in fewer solves than the refine that runs on
+/// until its steps stop paying (which ends far below it); its summary
+/// states the tolerance.
+#[test]
+fn the_refine_stops_within_its_tolerance() {
+    let scene = OnePatch::new();
+    let refine = |tolerance: f64| {
+        let problem = RefineProblem {
+            tolerance,
+            ..scene.problem(false)
+        };
+        let cold = simulate(&scene.design, &scene.model).unwrap();
+        let refined = problem
+            .refine(scene.design.clone(), cold, 40, None, &mut |_, _, _| {})
+            .unwrap();
+        refined.summary.unwrap()
+    };
+    let full = refine(0.0);
+    let tolerance = 0.2 * full.shape_error_before_percent;
+    let within = refine(tolerance);
+    println!("{full:?}\n{within:?}");
+    assert!(full.shape_error_after_percent < 0.5 * tolerance, "{full:?}");
+    assert!(within.shape_error_after_percent <= tolerance, "{within:?}");
+    assert!(within.solves < full.solves, "{within:?} {full:?}");
+    assert_eq!(within.tolerance_percent, tolerance);
 }

@@ -129,6 +129,7 @@ pub(super) fn refine_problem<'r>(
         freedom: run.setup.freedom(),
         bounds: &run.bounds,
         free_length: !run.setup.settings.fix_length,
+        tolerance: run.setup.tuning.refine_tolerance,
         correction: None,
         threads: run.setup.settings.threads,
         cancel,

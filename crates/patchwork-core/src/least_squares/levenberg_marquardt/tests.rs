@@ -130,6 +130,35 @@ fn steps_below_the_resolution_end_the_fit_sooner() {
     assert!(coarse.best.error < coarse.start_error);
 }
 
+/// A target ends the fit at the first iterate at or below it, with no
+/// fresh Jacobian to confirm it; a start already there takes no
+/// evaluation at all.
+#[test]
+fn a_target_ends_the_fit_once_met() {
+    let fit = |target: f64, from: [f64; 2]| {
+        let problem = Analytic::new(exponential);
+        let settings = Settings {
+            target,
+            ..Settings::default()
+        };
+        let start = problem.start(&from);
+        minimise(&problem, start, 200, None, &settings, &mut |_, _, _| {}).unwrap()
+    };
+    let exact = fit(0.0, [0.5, 0.5]);
+    let target = 0.1 * exact.start_error;
+    let met = fit(target, [0.5, 0.5]);
+    assert!(met.best.error <= target, "{} > {target}", met.best.error);
+    assert!(
+        exact.best.error < 0.01 * met.best.error,
+        "{}",
+        exact.best.error
+    );
+    assert!(met.counts.evaluations < exact.counts.evaluations);
+    let already = fit(2.0 * exact.start_error, [0.5, 0.5]);
+    assert_eq!(already.counts.evaluations, 0);
+    assert_eq!(already.best.error, already.start_error);
+}
+
 #[test]
 fn solves_rosenbrock_from_across_the_valley() {
     // r = (10 (y − x²), 1 − x), x, y ∈ [−2, 2]: the minimum |r| = 0 at
