@@ -138,8 +138,9 @@ pub fn known_limits(curves: &[Row]) -> String {
          takes about 4 minutes with `draft`, KSA's layout and no refine \
          (`cargo test --release -p patchwork-core --test stress -- \
          --ignored --nocapture`, on request).\n\
-         - **Coarse meshes are for searching only**: the uniform 2 mm mesh is \
-         several per cent off theory (table above); every preset verifies on \
-         0.5 mm elements.\n"
+         - **Coarse meshes are for searching and quick looks**: with patches, \
+         the uniform 2 mm mesh lies over a per cent of the length from a \
+         converged solution (table above); every preset verifies on 0.5 mm \
+         elements.\n"
     )
 }
