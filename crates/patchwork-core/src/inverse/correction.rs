@@ -50,7 +50,8 @@ use crate::fe::{SimulateOptions, Simulation};
 
 /// Rounds of correction (each one finer solve and a share of the refine's
 /// budget); a round that does not lower the finer model's shape error ends
-/// them, and none starts once that error is within the refine tolerance. Each round takes the correction afresh at the last round's result;
+/// them, and none starts once that error is within the refine tolerance.
+/// Each round takes the correction afresh at the last round's result;
 /// measured under draft (medians of three), a third round takes the Hilbert
 /// curve from 0.14 to 0.13 %, the pancake from 0.65 to 0.59 %, the spring
 /// from 1.23 to 1.10 % and the trefoil from 1.89 to 1.72 % for one more

@@ -118,8 +118,9 @@ const UNIFORM_HALF_MM: MeshRow = MeshRow {
 /// The verification model itself (graded 0.5 mm) lies 0.02–0.07 % of the
 /// length from a converged uniform 0.25 mm solution (`MeshSpec::
 /// default_simulation`), so a refine below this follows the mesh's error
-/// more than the balloon's shape; on the Hilbert curve the last 0.02 % cost
-/// two thirds of the refine. Fine refines on until its steps stop paying.
+/// more than the balloon's shape; on the Hilbert curve the last 0.02–0.04
+/// points cost two thirds of the refine's solves (docs/studies.md, "The
+/// refine tolerance"). Fine refines on until its steps stop paying.
 pub const REFINE_TOLERANCE: f64 = 0.1;
 
 /// Solves the refine on the verification model may spend before a final
