@@ -38,9 +38,9 @@ pub struct SimulateArgs {
     /// Axial element size along bare stretches (mm), with `--mesh-mm` only
     /// where patches are and at the ends (local refinement). For a quick
     /// look, `--mesh-mm 1.25 --straight-mm 6`: on three designs (the Hilbert
-    /// seed, a helix, a grasp) within 0.1–0.6 % of the length of the
-    /// default mesh's centreline, in a third to a twelfth of its time
-    /// (BENCHMARKS.md, "Forward solve per mesh").
+    /// seed, the helix and grasp presets' draft designs) within 0.2–0.6 % of
+    /// the length of a converged solution, in a fourteenth to a half of the
+    /// default mesh's time (docs/studies.md, "Loading the facets").
     #[arg(long)]
     straight_mm: Option<f64>,
     /// Cross-section rings for the centreline.

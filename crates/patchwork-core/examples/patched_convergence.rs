@@ -35,7 +35,7 @@ fn largest_gap(a: &Curve, b: &Curve) -> f64 {
 }
 
 /// The fine solution first, then the meshes compared with it.
-fn meshes() -> [(&'static str, MeshSpec); 5] {
+fn meshes() -> [(&'static str, MeshSpec); 6] {
     [
         ("uniform 0.25 mm", MeshSpec::uniform(0.25)),
         ("uniform 0.5 mm", MeshSpec::uniform(0.5)),
@@ -44,6 +44,7 @@ fn meshes() -> [(&'static str, MeshSpec); 5] {
             MeshSpec::default_simulation(),
         ),
         ("graded 1 / 4 mm", MeshSpec::graded(1.0, 4.0)),
+        ("graded 1.25 / 6 mm (quick)", MeshSpec::graded(1.25, 6.0)),
         ("graded 2 / 6 mm", MeshSpec::graded(2.0, 6.0)),
     ]
 }
