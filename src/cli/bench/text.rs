@@ -24,9 +24,10 @@ pub fn header(command: &str) -> String {
          target's length; every design is re-simulated on the uniform 0.5 mm \
          reference model to measure it. **Wall time** is one \
          `patchwork design` run on this machine with 2 threads, from the curve \
-         to the verified design; the reach table of the scene (21 solves, about \
-         2 s) is solved by the first design and read back by the rest, as a \
-         user's later designs of a scene read it from disk. Times on a shared \
+         to the verified design; the scene's tables, the reach table (21 \
+         solves, about 2 s) and the search's rod table (73 solves, about \
+         2.5 s), are solved by the first design and read back by the rest, as \
+         a user's later designs of a scene read them from disk. Times on a shared \
          machine vary by up to ±30 % from one run to the next, so compare them \
          as ratios within this report.\n",
         build(),
