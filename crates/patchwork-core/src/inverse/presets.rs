@@ -115,12 +115,14 @@ const UNIFORM_HALF_MM: MeshRow = MeshRow {
 };
 
 /// Draft's and standard's refine tolerance: 0.1 % of the target's length.
-/// The verification model itself (graded 0.5 mm) lies 0.02–0.07 % of the
-/// length from a converged uniform 0.25 mm solution (`MeshSpec::
-/// default_simulation`), so a refine below this follows the mesh's error
-/// more than the balloon's shape; on the Hilbert curve the last 0.02–0.04
-/// points cost two thirds of the refine's solves (docs/studies.md, "The
-/// refine tolerance"). Fine refines on until its steps stop paying.
+/// The graded 0.5 mm model that verifies their designs (the correction's,
+/// `MeshSpec::default_simulation`; not the graded 1 mm `verify_mesh` the
+/// refine solves on) lies 0.02–0.07 % of the length from a converged
+/// uniform 0.25 mm solution on four designs, so a refine below this
+/// follows the mesh's error more than the balloon's shape; on the Hilbert
+/// curve the last 0.02–0.04 points cost two thirds of the refine's solves
+/// (docs/studies.md, "The refine tolerance"). Fine refines on until its
+/// steps stop paying.
 pub const REFINE_TOLERANCE: f64 = 0.1;
 
 /// Solves the refine on the verification model may spend before a final

@@ -172,7 +172,6 @@ fn the_refine_stops_within_its_tolerance() {
     let full = refine(0.0);
     let tolerance = 0.2 * full.shape_error_before_percent;
     let within = refine(tolerance);
-    println!("{full:?}\n{within:?}");
     assert!(full.shape_error_after_percent < 0.5 * tolerance, "{full:?}");
     assert!(within.shape_error_after_percent <= tolerance, "{within:?}");
     assert!(within.solves < full.solves, "{within:?} {full:?}");
