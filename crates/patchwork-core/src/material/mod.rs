@@ -31,6 +31,32 @@ mod volumetric;
 pub use hyper::Hyper;
 pub use volumetric::{ABAQUS_EXPLICIT_BULK_RATIO, Compressibility};
 
+/// One law of each kind, with parameters of latex and patch materials (an
+/// Ogden law with a term of negative exponent): what tests of every law
+/// run over.
+#[cfg(test)]
+pub(crate) fn one_law_of_each_kind() -> Vec<Law> {
+    vec![
+        Law::NeoHookean { mu_mpa: 1.3 },
+        Law::MooneyRivlin {
+            c10_mpa: 0.3,
+            c01_mpa: 0.05,
+        },
+        Law::Gent {
+            mu_mpa: 0.4,
+            jm: 40.0,
+        },
+        Law::ArrudaBoyce {
+            mu_mpa: 0.317,
+            lambda_m: 2.3,
+        },
+        Law::Ogden {
+            mu_mpa: vec![0.63, 0.0012, -0.01],
+            alpha: vec![1.3, 5.0, -2.0],
+        },
+    ]
+}
+
 /// A membrane material, as written in design JSON:
 /// `{"model": ..., <the model's parameters>, <its compressibility>}` where the
 /// compressibility is one of `"bulk_ratio": K₀/μ₀`, `"d": D₁` (ABAQUS's D₁ in

@@ -222,28 +222,6 @@ mod tests {
     use super::*;
     use crate::material::Compressibility;
 
-    fn laws() -> Vec<Law> {
-        vec![
-            Law::NeoHookean { mu_mpa: 1.3 },
-            Law::MooneyRivlin {
-                c10_mpa: 0.3,
-                c01_mpa: 0.05,
-            },
-            Law::Gent {
-                mu_mpa: 0.4,
-                jm: 40.0,
-            },
-            Law::ArrudaBoyce {
-                mu_mpa: 0.317,
-                lambda_m: 2.3,
-            },
-            Law::Ogden {
-                mu_mpa: vec![0.63, 0.0012, -0.01],
-                alpha: vec![1.3, 5.0, -2.0],
-            },
-        ]
-    }
-
     /// In-plane C of membrane states: the reference, a balloon's biaxial
     /// stretch, a patch's uniaxial one, a sheared one, a compressed one.
     const STATES: [[f64; 3]; 6] = [
@@ -265,7 +243,7 @@ mod tests {
     /// error is h²/6 times the next derivative, about 1e-10 of it).
     #[test]
     fn the_jet_matches_finite_differences() {
-        for law in laws() {
+        for law in super::super::one_law_of_each_kind() {
             for c in STATES {
                 let (u, plane) = setup(&law, c);
                 for y in [-0.3, 0.0, 0.4, 0.9] {
@@ -293,7 +271,7 @@ mod tests {
     /// states, neo-Hookean and Arruda–Boyce).
     #[test]
     fn halley_finds_the_thickness_to_rounding_in_few_steps() {
-        for law in laws() {
+        for law in super::super::one_law_of_each_kind() {
             for c in STATES {
                 let (u, plane) = setup(&law, c);
                 let (y, w, evaluations) = solve_counted(&law, &u, c).unwrap();
