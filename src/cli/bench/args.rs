@@ -6,7 +6,7 @@ use clap::Args;
 
 use super::cases::Suite;
 
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct BenchArgs {
     /// The small suite (two short curves, draft and standard, small budgets):
     /// minutes instead of hours. The same as `--suite quick`.
@@ -18,9 +18,9 @@ pub struct BenchArgs {
     /// unknown), users (curves as users send them: gentle arcs, sparse CAD
     /// exports, noisy strokes, new kinds; draft), sure (five curves designed
     /// robust under draft, each checked by Monte-Carlo: sure.md), or report
-    /// (BENCHMARKS.md: forward solves, curves under draft and standard, round
-    /// trips and users' curves under draft, how sure a design is; about two
-    /// hours on 2 cores).
+    /// (BENCHMARKS.md: forward solves, curves under draft and standard, the
+    /// run-time goals' curves at seeds 1–3, round trips and users' curves
+    /// under draft, how sure a design is; about half an hour on 2 cores).
     #[arg(long, value_enum, default_value = "reference")]
     pub suite: Suite,
     /// Folder for bench.md and bench.svg (the report: its tables and plot).

@@ -31,8 +31,9 @@ pub enum Suite {
     /// with a Monte-Carlo check of 200 designs: half an hour.
     Sure,
     /// The benchmark report: the forward solve per mesh, the curve suite
-    /// under draft and standard, the round trips and the users' suite under
-    /// draft, and how sure a design is.
+    /// under draft and standard, the run-time goals' curves at three seeds,
+    /// the round trips and the users' suite under draft, and how sure a
+    /// design is.
     Report,
 }
 

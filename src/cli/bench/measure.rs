@@ -149,6 +149,7 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
             spread_s: column(|s| s.spread_s),
             spread_percent: column(|s| s.spread_percent),
         },
+        walls: samples.iter().map(|s| s.wall_s).collect(),
         reach,
         failures,
         stages,

@@ -21,6 +21,7 @@ mod row;
 mod suite;
 mod sureness;
 mod text;
+mod timing_goals;
 mod users;
 mod users_goals;
 

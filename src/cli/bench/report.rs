@@ -1,7 +1,8 @@
 //! `patchwork bench --suite report`: the benchmark report (BENCHMARKS.md).
 //! Runs the forward solve per mesh, the curve suite under draft and
-//! standard, the round trips and the users' suite under draft, the rod
-//! model against FE on the suite's designs, in one invocation, and writes
+//! standard, the run-time goals' curves at three seeds, the round trips
+//! and the users' suite under draft, the rod model against FE on the
+//! suite's designs, in one invocation, and writes
 //! the report with the machine, build, date and command in its header, a
 //! headline table, a section per measurement and the limits the run shows.
 //! The service under load comes from its own bench's markdown (it needs an
@@ -20,6 +21,7 @@ use super::rod::{self, RodAccuracy};
 use super::row::{Row, median};
 use super::sureness::{self, SureRow};
 use super::text::{header, known_limits};
+use super::timing_goals::{self, TimedGoal};
 use super::users_goals::{UsersGoals, users_section};
 
 /// The service bench's section, written by
@@ -32,6 +34,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     let head = header(command);
     let forward = forward::measure()?;
     let curves = measured(Suite::Curves, &["draft", "standard"], args)?;
+    let timed = timing_goals::measure(args)?;
     let trips = measured(Suite::RoundTrips, &["draft"], args)?;
     let rod = rod::measure(
         &[("curve suite", &curves), ("round trips", &trips)],
@@ -48,7 +51,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     let report = [
         head,
         headline(
-            (&curves, &trips, &sure),
+            (&curves, &timed, &trips, &sure),
             &rod,
             &goals,
             &forward,
@@ -56,6 +59,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
             &args.out,
         ),
         curve_section(&curves, &args.out),
+        timing_goals::section(&timed),
         trip_section(&trips),
         rod::section(&rod),
         users_section(&users, &goals, &args.out),
@@ -102,7 +106,7 @@ fn summary(rows: &[Row], setting: &str) -> Summary {
 }
 
 fn headline(
-    (curves, trips, sure): (&[Row], &[Row], &[SureRow]),
+    (curves, timed, trips, sure): (&[Row], &[TimedGoal], &[Row], &[SureRow]),
     rod: &RodAccuracy,
     goals: &UsersGoals,
     forward: &Forward,
@@ -117,6 +121,7 @@ fn headline(
             m.curves, m.median, m.worst_within_reach, m.median_s, m.longest_s
         ));
     }
+    s.push_str(&timing_goals::headline(timed));
     let t = summary(trips, "draft");
     let worst = trips
         .iter()

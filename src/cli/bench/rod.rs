@@ -196,6 +196,7 @@ mod tests {
             curve: "trip".into(),
             setting: "draft".into(),
             figures: Sample::unknown(),
+            walls: Vec::new(),
             reach: "yes".into(),
             failures: 0,
             stages: Vec::new(),

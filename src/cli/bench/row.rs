@@ -10,6 +10,8 @@ pub struct Row {
     pub setting: String,
     /// Medians over the runs (the most beyond limits).
     pub figures: Sample,
+    /// Each finished run's wall time (s), in the order of its seed.
+    pub walls: Vec<f64>,
     /// The reach stage's verdict: "yes", or the stretches out of reach.
     pub reach: String,
     pub failures: usize,
