@@ -7,6 +7,7 @@
 //! part of the wall time.
 
 use std::cell::Cell;
+use std::ops::RangeInclusive;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
@@ -34,11 +35,22 @@ const REFERENCE_MESH: MeshSpec = MeshSpec {
 };
 
 /// The curves of `which` that `--curves` names (all when it names none),
-/// each under the settings `keep` keeps, measured in order.
+/// each under the settings `keep` keeps, measured in order at seeds
+/// 1..=`--runs`.
 pub fn measure_suite(
     which: Suite,
     keep: impl Fn(&Setting) -> bool,
     args: &BenchArgs,
+) -> Result<Vec<Row>> {
+    measure_at_seeds(which, keep, args, 1..=args.runs as u64)
+}
+
+/// [`measure_suite`] at `seeds`.
+pub fn measure_at_seeds(
+    which: Suite,
+    keep: impl Fn(&Setting) -> bool,
+    args: &BenchArgs,
+    seeds: RangeInclusive<u64>,
 ) -> Result<Vec<Row>> {
     let (mut curves, mut settings) = suite(which)?;
     curves.retain(|t| {
@@ -56,7 +68,7 @@ pub fn measure_suite(
     let mut rows = Vec::new();
     for target in &curves {
         for setting in &settings {
-            let row = measure_row(target, setting, args)?;
+            let row = measure_row(target, setting, args, seeds.clone())?;
             eprintln!(
                 "{:<40} {:<24} {:>8.2} s {:>6.0} evals {:>6.2} % (reference model {:.2} %), {} patches, {} beyond limits",
                 row.curve,
@@ -74,16 +86,22 @@ pub fn measure_suite(
     Ok(rows)
 }
 
-/// `setting` on `target`, once per seed: the medians (the most beyond
-/// limits), the reach verdict and the failures.
-pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Result<Row> {
+/// `setting` on `target`, once per seed of `seeds`: the medians (the most
+/// beyond limits), the reach verdict and the failures.
+fn measure_row(
+    target: &Target,
+    setting: &Setting,
+    args: &BenchArgs,
+    seeds: RangeInclusive<u64>,
+) -> Result<Row> {
+    let several = seeds != (1..=1);
     let mut samples = Vec::new();
     let mut failures = 0;
     let mut reach = String::from("–");
     let mut aimed: Option<Curve> = None;
     let mut stages = Vec::new();
     let mut first = None;
-    for seed in 1..=args.runs as u64 {
+    for seed in seeds {
         let settings = UserSettings {
             fidelity: setting.fidelity,
             budget: Some(setting.budget),
@@ -115,7 +133,7 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
                 if let Some(aimed) = &aimed {
                     let times = (wall_s, wall_s - spread_from.get());
                     let run = sample(target, aimed, &plan, &o, times);
-                    if args.runs > 1 {
+                    if several {
                         eprintln!(
                             "  {}, {}, seed {seed}: {}",
                             target.name,
@@ -149,7 +167,7 @@ pub fn measure_row(target: &Target, setting: &Setting, args: &BenchArgs) -> Resu
             spread_s: column(|s| s.spread_s),
             spread_percent: column(|s| s.spread_percent),
         },
-        walls: samples.iter().map(|s| s.wall_s).collect(),
+        runs: samples,
         reach,
         failures,
         stages,

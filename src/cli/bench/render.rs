@@ -143,7 +143,7 @@ mod tests {
             curve: "c".into(),
             setting: setting.into(),
             figures: Sample::unknown(),
-            walls: Vec::new(),
+            runs: Vec::new(),
             reach: String::new(),
             failures: 0,
             stages,

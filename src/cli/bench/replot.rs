@@ -36,7 +36,7 @@ pub fn rows(text: &str) -> Result<Vec<Row>> {
                 reference_error_percent: number(&cells, error).unwrap_or(f64::NAN),
                 ..Sample::unknown()
             },
-            walls: Vec::new(),
+            runs: Vec::new(),
             reach: String::new(),
             failures: 0,
             stages: Vec::new(),

@@ -34,7 +34,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
     let head = header(command);
     let forward = forward::measure()?;
     let curves = measured(Suite::Curves, &["draft", "standard"], args)?;
-    let timed = timing_goals::measure(args)?;
+    let timed = timing_goals::measure(args, &curves)?;
     let trips = measured(Suite::RoundTrips, &["draft"], args)?;
     let rod = rod::measure(
         &[("curve suite", &curves), ("round trips", &trips)],

@@ -196,7 +196,7 @@ mod tests {
             curve: "trip".into(),
             setting: "draft".into(),
             figures: Sample::unknown(),
-            walls: Vec::new(),
+            runs: Vec::new(),
             reach: "yes".into(),
             failures: 0,
             stages: Vec::new(),

@@ -10,8 +10,8 @@ pub struct Row {
     pub setting: String,
     /// Medians over the runs (the most beyond limits).
     pub figures: Sample,
-    /// Each finished run's wall time (s), in the order of its seed.
-    pub walls: Vec<f64>,
+    /// Each finished run's figures, in the order of its seed.
+    pub runs: Vec<Sample>,
     /// The reach stage's verdict: "yes", or the stretches out of reach.
     pub reach: String,
     pub failures: usize,
@@ -23,6 +23,7 @@ pub struct Row {
 }
 
 /// One run's figures (or their medians over the runs).
+#[derive(Clone)]
 pub struct Sample {
     pub wall_s: f64,
     pub evaluations: f64,

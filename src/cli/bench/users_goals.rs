@@ -147,7 +147,7 @@ mod tests {
                 patches,
                 ..Sample::unknown()
             },
-            walls: Vec::new(),
+            runs: Vec::new(),
             reach: reach.into(),
             failures: 0,
             stages: Vec::new(),
