@@ -150,29 +150,34 @@ fn measure_row(
             }
         }
     }
-    let column = |f: fn(&Sample) -> f64| median(samples.iter().map(f).collect());
     Ok(Row {
         curve: target.name.clone(),
         setting: setting.name.to_string(),
-        figures: Sample {
-            wall_s: column(|s| s.wall_s),
-            evaluations: column(|s| s.evaluations),
-            shape_error_percent: column(|s| s.shape_error_percent),
-            reference_error_percent: column(|s| s.reference_error_percent),
-            clean_error_percent: column(|s| s.clean_error_percent),
-            dtw_curvature: column(|s| s.dtw_curvature),
-            dtw_torsion: column(|s| s.dtw_torsion),
-            patches: column(|s| s.patches),
-            beyond_limits: samples.iter().map(|s| s.beyond_limits).fold(0.0, f64::max),
-            spread_s: column(|s| s.spread_s),
-            spread_percent: column(|s| s.spread_percent),
-        },
+        figures: medians(&samples),
         runs: samples,
         reach,
         failures,
         stages,
         design: first,
     })
+}
+
+/// Each figure's median over `samples` (the most beyond limits).
+fn medians(samples: &[Sample]) -> Sample {
+    let column = |f: fn(&Sample) -> f64| median(samples.iter().map(f).collect());
+    Sample {
+        wall_s: column(|s| s.wall_s),
+        evaluations: column(|s| s.evaluations),
+        shape_error_percent: column(|s| s.shape_error_percent),
+        reference_error_percent: column(|s| s.reference_error_percent),
+        clean_error_percent: column(|s| s.clean_error_percent),
+        dtw_curvature: column(|s| s.dtw_curvature),
+        dtw_torsion: column(|s| s.dtw_torsion),
+        patches: column(|s| s.patches),
+        beyond_limits: samples.iter().map(|s| s.beyond_limits).fold(0.0, f64::max),
+        spread_s: column(|s| s.spread_s),
+        spread_percent: column(|s| s.spread_percent),
+    }
 }
 
 /// One run's time and shape errors, for the log of a case run with
