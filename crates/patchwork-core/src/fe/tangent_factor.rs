@@ -5,7 +5,14 @@
 //! pattern *already permuted* into that ordering and stored as the compressed
 //! columns the numeric factorisation reads, the slot in those columns of every
 //! triplet the assembly writes, and the symbolic factorisation (identity
-//! ordering of the permuted pattern).
+//! ordering of the permuted pattern). The assembly's triplets (45 per
+//! triangle, each distinct entry written by about three) are sorted once,
+//! into the distinct entries and each triplet's entry; the ordering moves
+//! only the distinct entries, and a triplet's slot is its entry's. A graded
+//! mesh is new with every design, so a design run builds dozens of these:
+//! sorting the triplets three times and finding each slot by binary search
+//! took 5 % of a Hilbert `standard` run's samples (`perf`), and the run
+//! 3–5 % longer (docs/studies.md, "Where a design's time goes").
 //!
 //! Per factorisation: scatter-add the assembly's triplets into their slots and
 //! factor in place into a buffer allocated once per solve — no sorting, no
@@ -52,7 +59,8 @@ impl TangentPattern {
     /// `pairs`: the (row, col) of each triplet the assembly writes, row ≥ col
     /// (lower triangle), duplicates summed.
     pub fn new(n: usize, pairs: &[Pair<usize, usize>]) -> Result<TangentPattern, String> {
-        let original = compressed_columns(n, pairs.iter().map(|p| (p.row, p.col)));
+        // The distinct entries, and which one each triplet adds to.
+        let (original, entry_of) = indexed_columns(n, pairs.iter().map(|p| (p.row, p.col)))?;
         let mut forward = vec![0usize; n];
         let mut inverse = vec![0usize; n];
         let nnz = original.row_idx().len();
@@ -64,19 +72,19 @@ impl TangentPattern {
             MemStack::new(&mut MemBuffer::new(amd::order_scratch::<usize>(n, nnz))),
         )
         .map_err(|e| format!("{e:?}"))?;
-        let lower: Vec<(usize, usize)> = pairs
-            .iter()
-            .map(|p| {
-                let (r, c) = (inverse[p.row], inverse[p.col]);
-                (r.max(c), r.min(c))
-            })
-            .collect();
+        // Each distinct entry moved into the ordering, in the lower triangle;
+        // the permutation keeps them distinct.
+        let permuted = entries(&original).map(|(row, col)| {
+            let (r, c) = (inverse[row], inverse[col]);
+            (r.max(c), r.min(c))
+        });
+        let (columns, position) = indexed_columns(n, permuted)?;
         // Supernodal, forced: on these tangents faster than faer's default
         // choice, simplicial (Hilbert scene, cold solve: 2 mm 15 % less CPU
         // time, 1 mm 1.8 → 1.2 s). Without a permutation faer's symbolic
         // factorisation reads the upper triangle whatever side it is told; the
         // supernodal numeric factorisation reads the lower one.
-        let upper = compressed_columns(n, lower.iter().map(|&(r, c)| (c, r)));
+        let upper = transposed(&columns);
         let symbolic = factorize_symbolic_cholesky(
             upper.as_ref(),
             Side::Upper,
@@ -87,8 +95,7 @@ impl TangentPattern {
             },
         )
         .map_err(|e| format!("{e:?}"))?;
-        let columns = compressed_columns(n, lower.iter().copied());
-        let slot = slots(&columns, &lower);
+        let slot = entry_of.iter().map(|&entry| position[entry]).collect();
         Ok(TangentPattern {
             n,
             forward,
@@ -163,13 +170,15 @@ impl TangentFactor<'_> {
 }
 
 /// Compressed columns (rows sorted, duplicates merged) of the entries
-/// `(row, col)`. Entries are bucketed by column and each short column sorted
-/// on its own: a tangent's column holds a few dozen entries, so this is linear
-/// in the entry count.
-fn compressed_columns(
+/// `(row, col)`, and for each entry, in the order given, its index in the
+/// columns' values. Entries are bucketed by column and each short column
+/// sorted on its own (a tangent's column holds a few dozen entries, so this
+/// is linear in the entry count), each as its row and its place in the
+/// input packed into one integer.
+fn indexed_columns(
     n: usize,
     entries: impl Iterator<Item = (usize, usize)> + Clone,
-) -> SymbolicSparseColMat<usize> {
+) -> Result<(SymbolicSparseColMat<usize>, Vec<usize>), String> {
     let mut start = vec![0usize; n + 1];
     for (_, c) in entries.clone() {
         start[c + 1] += 1;
@@ -177,39 +186,67 @@ fn compressed_columns(
     for c in 0..n {
         start[c + 1] += start[c];
     }
-    let mut bucket = vec![0usize; start[n]];
+    let count = start[n];
+    if n > u32::MAX as usize || count > u32::MAX as usize {
+        return Err(format!(
+            "a tangent of {n} unknowns and {count} entries is too large"
+        ));
+    }
+    let mut bucket = vec![0u64; count];
     let mut fill = start.clone();
-    for (r, c) in entries {
-        bucket[fill[c]] = r;
+    for (k, (r, c)) in entries.enumerate() {
+        bucket[fill[c]] = ((r as u64) << 32) | k as u64;
         fill[c] += 1;
     }
+    let mut index = vec![0usize; count];
     let mut col_ptr = Vec::with_capacity(n + 1);
-    let mut row_idx = Vec::with_capacity(bucket.len());
+    let mut row_idx: Vec<usize> = Vec::with_capacity(count);
     col_ptr.push(0);
     for c in 0..n {
         let column = &mut bucket[start[c]..start[c + 1]];
         column.sort_unstable();
         let first = row_idx.len();
-        for &r in column.iter() {
+        for &packed in column.iter() {
+            let r = (packed >> 32) as usize;
             if row_idx.len() == first || row_idx.last() != Some(&r) {
                 row_idx.push(r);
             }
+            index[(packed & u64::from(u32::MAX)) as usize] = row_idx.len() - 1;
         }
         col_ptr.push(row_idx.len());
     }
-    SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx)
+    let columns = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    Ok((columns, index))
 }
 
-/// For each entry `(row, col)`, its index in the values of `columns`.
-fn slots(columns: &SymbolicSparseColMat<usize>, entries: &[(usize, usize)]) -> Vec<usize> {
+/// The `(row, col)` of every stored entry of `columns`, column by column.
+fn entries(columns: &SymbolicSparseColMat<usize>) -> impl Iterator<Item = (usize, usize)> + Clone {
     let (col_ptr, row_idx) = (columns.col_ptr(), columns.row_idx());
-    entries
-        .iter()
-        .map(|&(r, c)| {
-            let column = &row_idx[col_ptr[c]..col_ptr[c + 1]];
-            col_ptr[c] + column.binary_search(&r).expect("entry is in the pattern")
-        })
-        .collect()
+    (0..columns.ncols()).flat_map(move |c| {
+        row_idx[col_ptr[c]..col_ptr[c + 1]]
+            .iter()
+            .map(move |&r| (r, c))
+    })
+}
+
+/// The transpose of `columns` (rows sorted, as a column-by-column scan
+/// writes them).
+fn transposed(columns: &SymbolicSparseColMat<usize>) -> SymbolicSparseColMat<usize> {
+    let n = columns.nrows();
+    let mut col_ptr = vec![0usize; n + 1];
+    for &r in columns.row_idx() {
+        col_ptr[r + 1] += 1;
+    }
+    for r in 0..n {
+        col_ptr[r + 1] += col_ptr[r];
+    }
+    let mut fill = col_ptr.clone();
+    let mut row_idx = vec![0usize; columns.row_idx().len()];
+    for (r, c) in entries(columns) {
+        row_idx[fill[r]] = c;
+        fill[r] += 1;
+    }
+    SymbolicSparseColMat::new_checked(columns.ncols(), n, col_ptr, None, row_idx)
 }
 
 #[cfg(test)]
@@ -253,6 +290,57 @@ mod tests {
         factor.solve_in_place(&mut b);
         for (got, want) in b.iter().zip(&x) {
             assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        }
+    }
+
+    #[test]
+    fn every_triplet_adds_to_its_own_entry_in_the_ordering() {
+        // A 2-D grid's lower triangle, each entry given two or three times
+        // in a scrambled order, as overlapping elements write it.
+        let side = 9;
+        let n = side * side;
+        let mut pairs = Vec::new();
+        for i in 0..n {
+            for j in [i, i + 1, i + side, i + side + 1] {
+                if j < n {
+                    for _ in 0..2 + (i + j) % 2 {
+                        pairs.push(Pair::new(j.max(i), j.min(i)));
+                    }
+                }
+            }
+        }
+        let len = pairs.len();
+        let scrambled: Vec<_> = (0..len).map(|k| pairs[(k * 37) % len]).collect();
+        assert_ne!(
+            len % 37,
+            0,
+            "37 is prime to the count, so each triplet appears once"
+        );
+        let pattern = TangentPattern::new(n, &scrambled).expect("pattern");
+        let mut inverse = vec![0; n];
+        for (i, &f) in pattern.forward.iter().enumerate() {
+            inverse[f] = i;
+        }
+        let (col_ptr, row_idx) = (pattern.columns.col_ptr(), pattern.columns.row_idx());
+        for c in 0..n {
+            let column = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+            assert!(
+                column.windows(2).all(|w| w[0] < w[1]),
+                "column {c} sorted, distinct"
+            );
+            assert!(
+                column.iter().all(|&r| r >= c),
+                "column {c} in the lower triangle"
+            );
+        }
+        let distinct: std::collections::BTreeSet<_> =
+            scrambled.iter().map(|p| (p.row, p.col)).collect();
+        assert_eq!(row_idx.len(), distinct.len());
+        for (p, &slot) in scrambled.iter().zip(&pattern.slot) {
+            let (r, c) = (inverse[p.row], inverse[p.col]);
+            let (row, col) = (r.max(c), r.min(c));
+            assert!((col_ptr[col]..col_ptr[col + 1]).contains(&slot));
+            assert_eq!(row_idx[slot], row);
         }
     }
 
