@@ -47,13 +47,12 @@ impl Length {
         let corrected = (ctx.caches)
             .simulate_from(&run.design, model, Some(&simulation))
             .or_else(|_| ctx.caches.simulate(&run.design, model));
-        match corrected {
-            Ok(corrected) => run.verified = Some(corrected),
-            Err(error) => {
-                run.verified = Some(simulation);
-                return Err(DesignRunError::Verify(error));
-            }
-        }
-        Ok(())
+        // On failure the unstretched state stays verified, as before the stage.
+        let (verified, outcome) = match corrected {
+            Ok(corrected) => (corrected, Ok(())),
+            Err(error) => (simulation, Err(DesignRunError::Verify(error))),
+        };
+        run.verified = Some(verified);
+        outcome
     }
 }
