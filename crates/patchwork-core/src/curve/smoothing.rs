@@ -149,6 +149,7 @@ fn convolve(p: &[Point], s: &[f64], sigma_mm: f64) -> Vec<Point> {
         .iter()
         .map(|&si| s.partition_point(|&x| x < si - reach))
         .collect();
+    let cells: Vec<f64> = (0..n).map(|j| cell_length(s, j)).collect();
     let mut sums = vec![(Point::zeros(), 0.0); n];
     // Adds j's term, of kernel value g, to i's sum, then j's images.
     let add = |sum: &mut (Point, f64), i: usize, j: usize, g: f64| {
@@ -156,7 +157,7 @@ fn convolve(p: &[Point], s: &[f64], sigma_mm: f64) -> Vec<Point> {
             sum.0 += w * pj;
             sum.1 += w;
         };
-        let cell = cell_length(s, j);
+        let cell = cells[j];
         term(g * cell, p[j]);
         let (si, sj) = (s[i], s[j]);
         if sj > 0.0 && si + sj <= reach {
@@ -166,17 +167,19 @@ fn convolve(p: &[Point], s: &[f64], sigma_mm: f64) -> Vec<Point> {
             term(gauss(2.0 * length - sj - si) * cell, 2.0 * p[n - 1] - p[j]);
         }
     };
-    let mut last_reaching = 0;
+    // One past the last point whose reach extends back to i (lo is
+    // nondecreasing, so it only moves forward).
+    let mut reaching_end = 0;
     for i in 0..n {
         let si = s[i];
         add(&mut sums[i], i, i, gauss(0.0));
         // Points after i within its reach, and those that reach back to i.
         let hi = s.partition_point(|&x| x <= si + reach);
-        last_reaching = last_reaching.max(i + 1);
-        while last_reaching < n && lo[last_reaching] <= i {
-            last_reaching += 1;
+        reaching_end = reaching_end.max(i + 1);
+        while reaching_end < n && lo[reaching_end] <= i {
+            reaching_end += 1;
         }
-        for j in (i + 1)..hi.max(last_reaching) {
+        for j in (i + 1)..hi.max(reaching_end) {
             let g = gauss(s[j] - si);
             if j < hi {
                 add(&mut sums[i], i, j, g);
@@ -189,9 +192,9 @@ fn convolve(p: &[Point], s: &[f64], sigma_mm: f64) -> Vec<Point> {
     sums.iter()
         .enumerate()
         .map(|(i, &(sum, weight))| {
-            if i == 0 || i == n - 1 {
-                p[i]
-            } else if weight > 0.0 {
+            // The ends stay where they are.
+            let inner = i > 0 && i + 1 < n;
+            if inner && weight > 0.0 {
                 sum / weight
             } else {
                 p[i]
