@@ -25,7 +25,9 @@
 //! evaluation (or the next Jacobian and a step after it), when the problem
 //! is out of time (before its next evaluation), or when a *fresh* Jacobian
 //! fails — its accepted step gains less than `min_gain` (or `resolution`),
-//! its damping passes `max_damping`, or its step does not move. So every
+//! its damping passes `max_damping`, or its step does not move (a small
+//! gain the linear model promised far more for is an overshoot, not a
+//! failure: the raised damping shortens the next step). So every
 //! stop but the target's and the budget's is confirmed by a fresh Jacobian
 //! at the final point.
 
@@ -275,10 +277,15 @@ impl<P: Residuals> Minimiser<'_, P> {
 
     /// Moves to `trial`, which lowered |r|. A small gain from a secant
     /// Jacobian may be the Jacobian's fault: it is checked with a fresh one.
+    /// A small gain from a fresh Jacobian that the linear model promised
+    /// far more for is a step that overshot where the model holds
+    /// ([`overshot`]), not a stall: the damping, raised by the gain ratio,
+    /// takes a shorter step next.
     fn accept(&mut self, trial: Iterate<P::State>, predicted: f64, fresh: bool) -> After {
         let gain = 1.0 - trial.error / self.current.error;
         let lowered = self.current.error - trial.error;
         let ratio = gain_ratio(self.current.error, trial.error, predicted);
+        let overshot = overshot(self.current.error, predicted, ratio, self.settings);
         let mut cheap = false;
         if let Some(j) = self.jacobian.as_mut() {
             j.fresh = false;
@@ -291,7 +298,10 @@ impl<P: Residuals> Minimiser<'_, P> {
         if self.good_enough() {
             return After::Stop;
         }
-        if gain < self.settings.min_gain || lowered < self.settings.resolution {
+        // A fresh Jacobian's overshoot goes on; a secant one's small gain
+        // calls for a fresh Jacobian either way.
+        let stalled = gain < self.settings.min_gain || lowered < self.settings.resolution;
+        if stalled && !(fresh && overshot) {
             return self.refresh_unless(fresh);
         }
         if cheap && !fresh && ratio < self.settings.secant_ratio {
@@ -347,6 +357,25 @@ pub(crate) fn gain_ratio(current: f64, actual: f64, predicted: f64) -> f64 {
         true => (current * current - actual * actual) / expected,
         false => 1.0,
     }
+}
+
+/// A step's gain ratio below which a small gain counts as an overshoot
+/// rather than a stall (see [`overshot`]).
+const OVERSHOT_RATIO: f64 = 0.25;
+
+/// Whether an accepted step from |r| = `current`, predicted to reach
+/// `predicted` and achieving the gain ratio `ratio`, overshot: the linear
+/// model promised a fall that counts as progress (at least `min_gain` of
+/// |r| and `resolution`) and the step achieved less than `OVERSHOT_RATIO`
+/// of it (in |r|²). Such a step says the model held over a shorter step
+/// than this one, not that no step lowers |r| further; a stall the model
+/// itself foresaw (a promised fall below progress) ends a fresh Jacobian's
+/// steps as before.
+fn overshot(current: f64, predicted: f64, ratio: f64, settings: &Settings) -> bool {
+    let promised = current - predicted;
+    ratio < OVERSHOT_RATIO
+        && promised >= settings.resolution
+        && promised >= settings.min_gain * current
 }
 
 /// The damping's factor after an accepted step of gain ratio ρ (Nielsen,
