@@ -23,7 +23,10 @@ pub struct BenchArgs {
     /// under draft, how sure a design is; about half an hour on 2 cores).
     #[arg(long, value_enum, default_value = "reference")]
     pub suite: Suite,
-    /// Folder for bench.md and bench.svg (the report: its tables and plot).
+    /// Folder for bench.md and bench.svg (the report: its tables and plot)
+    /// and, but for the report, curves/NAME.csv: each curve the suite
+    /// designs, as `x,y,z` (a round trip's simulated target among them), to
+    /// design again with `patchwork design`.
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
     /// Redraw `--out`/bench.svg from this bench.md table instead of running

@@ -8,6 +8,7 @@
 
 use std::cell::Cell;
 use std::ops::RangeInclusive;
+use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
@@ -23,6 +24,7 @@ use patchwork_core::inverse::{
 
 use super::args::BenchArgs;
 use super::cases::{Setting, Suite, Target, laid_over};
+use super::curves_out::write_curves;
 use super::row::{Row, Sample, median};
 use super::suite::suite;
 
@@ -42,15 +44,17 @@ pub fn measure_suite(
     keep: impl Fn(&Setting) -> bool,
     args: &BenchArgs,
 ) -> Result<Vec<Row>> {
-    measure_at_seeds(which, keep, args, 1..=args.runs as u64)
+    measure_at_seeds(which, keep, args, 1..=args.runs as u64, None)
 }
 
-/// [`measure_suite`] at `seeds`.
+/// [`measure_suite`] at `seeds`, first writing the curves it designs to
+/// `curves_to` where given ([`write_curves`]).
 pub fn measure_at_seeds(
     which: Suite,
     keep: impl Fn(&Setting) -> bool,
     args: &BenchArgs,
     seeds: RangeInclusive<u64>,
+    curves_to: Option<&Path>,
 ) -> Result<Vec<Row>> {
     let (mut curves, mut settings) = suite(which)?;
     curves.retain(|t| {
@@ -65,6 +69,9 @@ pub fn measure_at_seeds(
         !curves.is_empty() && !settings.is_empty(),
         "--curves/--settings select nothing from the {which:?} suite"
     );
+    if let Some(dir) = curves_to {
+        write_curves(dir, &curves)?;
+    }
     let mut rows = Vec::new();
     for target in &curves {
         for setting in &settings {

@@ -2,15 +2,18 @@
 //! run time against error. A fixed suite of target curves × fidelity
 //! settings (`cases.rs`, `suite.rs`, `users.rs`), each run with seeds
 //! 1..=N; writes `bench.md` (medians: wall time, evaluations, shape error, DTW
-//! κ and τ) and `bench.svg` (shape error against time, Pareto front per curve).
+//! κ and τ), `bench.svg` (shape error against time, Pareto front per curve)
+//! and `curves/` (each curve designed, `curves_out.rs`).
 //!
 //! The modules import downward only: `args`, `cases` and `row` at the
-//! bottom; `users` and `suite` (the curves), `measure` (running them),
+//! bottom; `users` and `suite` (the curves), `curves_out` (writing them),
+//! `measure` (running them),
 //! `render`, `replot`, `text` and `forward` above them; `report`
 //! (BENCHMARKS.md) on those; this file, the command, on top.
 
 mod args;
 mod cases;
+mod curves_out;
 mod forward;
 mod measure;
 mod render;
@@ -30,7 +33,7 @@ use patchwork_core::inverse::{Plan, UserSettings};
 
 pub use args::BenchArgs;
 use cases::Suite;
-use measure::measure_suite;
+use measure::measure_at_seeds;
 use render::{plot, table};
 
 use super::design_cmd::flag_error;
@@ -60,10 +63,12 @@ pub fn run(mut args: BenchArgs) -> Result<()> {
         std::fs::write(args.out.join("sure.md"), &text)?;
         return emit(&text);
     }
-    let rows = measure_suite(
+    let rows = measure_at_seeds(
         chosen,
         |s| args.settings.is_empty() || args.settings.iter().any(|f| f == s.name),
         &args,
+        1..=args.runs as u64,
+        Some(&args.out.join("curves")),
     )?;
     let table = table(&rows, &command);
     std::fs::write(args.out.join("bench.md"), &table)?;

@@ -63,7 +63,7 @@ pub fn measure(args: &BenchArgs, measured: &[Row]) -> Result<Vec<TimedGoal>> {
                 ..args.clone()
             };
             let keep = |s: &Setting| s.name == setting;
-            for row in measure_at_seeds(Suite::Curves, keep, &only, next..=SEEDS as u64)? {
+            for row in measure_at_seeds(Suite::Curves, keep, &only, next..=SEEDS as u64, None)? {
                 name.get_or_insert(row.curve);
                 runs.extend(row.runs);
             }
