@@ -64,7 +64,7 @@ pub fn at_limits(patches: &[Patch], bounds: &VariableBounds) -> Vec<AtLimit> {
     for (index, patch) in patches.iter().enumerate() {
         let values = [patch.h_mm, patch.w_mm, patch.theta_deg];
         for ((field, low_name, high_name, low, high), value) in ranges.iter().zip(values) {
-            let tolerance = tolerance(*low, *high);
+            let tolerance = share_of_range(ON_LIMIT, *low, *high);
             let hit = if value <= low + tolerance {
                 Some((low_name, *low))
             } else if value >= high - tolerance {
@@ -87,9 +87,11 @@ pub fn at_limits(patches: &[Patch], bounds: &VariableBounds) -> Vec<AtLimit> {
     found
 }
 
-/// How near a value must be to an end of `low..high` to count as on it.
-fn tolerance(low: f64, high: f64) -> f64 {
-    ON_LIMIT * (high - low).abs()
+/// `fraction` of the range `low..high`: how near a value must be to an
+/// end of it to count as on it ([`ON_LIMIT`]) or at its weakest
+/// ([`NEAR_WEAKEST`]).
+fn share_of_range(fraction: f64, low: f64, high: f64) -> f64 {
+    fraction * (high - low).abs()
 }
 
 /// A patch counts as at its weakest within this fraction of its height's
@@ -108,7 +110,7 @@ const NEAR_WEAKEST: f64 = 4.0 * ON_LIMIT;
 /// within [`NEAR_WEAKEST`] of their ranges above their lower limits (or
 /// below them).
 pub fn at_weakest(patch: &Patch, bounds: &VariableBounds) -> bool {
-    let near = |low: f64, high: f64| low + NEAR_WEAKEST * (high - low).abs();
+    let near = |low: f64, high: f64| low + share_of_range(NEAR_WEAKEST, low, high);
     patch.h_mm <= near(bounds.h_min_mm, bounds.h_max_mm)
         && patch.w_mm <= near(bounds.w_min_mm, bounds.w_max_mm)
 }

@@ -285,7 +285,7 @@ impl<P: Residuals> Minimiser<'_, P> {
         let gain = 1.0 - trial.error / self.current.error;
         let lowered = self.current.error - trial.error;
         let ratio = gain_ratio(self.current.error, trial.error, predicted);
-        let overshot = overshot(self.current.error, predicted, ratio, self.settings);
+        let overshoot = overshot(self.current.error, predicted, ratio, self.settings);
         let mut cheap = false;
         if let Some(j) = self.jacobian.as_mut() {
             j.fresh = false;
@@ -301,7 +301,7 @@ impl<P: Residuals> Minimiser<'_, P> {
         // A fresh Jacobian's overshoot goes on; a secant one's small gain
         // calls for a fresh Jacobian either way.
         let stalled = gain < self.settings.min_gain || lowered < self.settings.resolution;
-        if stalled && !(fresh && overshot) {
+        if stalled && !(fresh && overshoot) {
             return self.refresh_unless(fresh);
         }
         if cheap && !fresh && ratio < self.settings.secant_ratio {

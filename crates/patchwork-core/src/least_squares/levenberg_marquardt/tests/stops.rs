@@ -67,7 +67,7 @@ fn shallow(_: &[f64]) -> DMatrix<f64> {
     DMatrix::from_element(1, 1, 0.4 / (0.39985 * 1.01))
 }
 
-/// `line` from x = 0.7 with `slope` as the cheap Jacobian: the fresh
+/// `line` from x = 0.7 with `shallow` as the cheap Jacobian: the fresh
 /// Jacobian's first step overshoots the minimum and lands where |r| is
 /// barely lower (0.4 → 0.3997, a gain below `min_gain` and `resolution`,
 /// where the model promised a fall to under 0.01). That is an overshoot,
