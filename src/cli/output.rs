@@ -48,3 +48,12 @@ pub fn patch_table(
     }
     text
 }
+
+/// Points as `x,y,z` CSV with a header, each coordinate in full (the
+/// shortest decimal that reads back to the same number): `simulate`'s
+/// centreline, the bench's curves.
+pub fn points_csv(points: &[patchwork_core::curve::Point]) -> String {
+    std::iter::once("x,y,z\n".to_string())
+        .chain(points.iter().map(|p| format!("{},{},{}\n", p.x, p.y, p.z)))
+        .collect()
+}

@@ -12,7 +12,7 @@ use patchwork_core::fe::section::CutElements;
 use patchwork_core::fe::{SimulateOptions, Simulation, simulate};
 
 use super::design_summary::contact_line;
-use super::output::{emit, emit_json};
+use super::output::{emit, emit_json, points_csv};
 use crate::reports::SimulateReport;
 
 #[derive(Args)]
@@ -147,13 +147,5 @@ fn write_files(dir: &PathBuf, sim: &Simulation) -> Result<()> {
     };
     write("balloon.vtk", to_vtk(sim, &sim.patch_share))?;
     write("balloon.ply", to_ply(sim))?;
-    let csv: String = std::iter::once("x,y,z\n".to_string())
-        .chain(
-            sim.centreline
-                .points()
-                .iter()
-                .map(|p| format!("{},{},{}\n", p.x, p.y, p.z)),
-        )
-        .collect();
-    write("centreline.csv", csv)
+    write("centreline.csv", points_csv(sim.centreline.points()))
 }

@@ -7,19 +7,16 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
+use super::super::output::points_csv;
 use super::cases::Target;
 
-/// Writes each target's curve to `dir`/[`file_name`], every coordinate in
-/// full (the shortest decimal that reads back to the same number).
+/// Writes each target's curve to `dir`/[`file_name`] ([`points_csv`]).
 pub fn write_curves(dir: &Path, targets: &[Target]) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     for target in targets {
-        let rows = target.curve.points().iter();
-        let csv: String = std::iter::once("x,y,z\n".to_string())
-            .chain(rows.map(|p| format!("{},{},{}\n", p.x, p.y, p.z)))
-            .collect();
         let path = dir.join(file_name(&target.name));
-        std::fs::write(&path, csv).with_context(|| format!("cannot write {}", path.display()))?;
+        std::fs::write(&path, points_csv(target.curve.points()))
+            .with_context(|| format!("cannot write {}", path.display()))?;
     }
     Ok(())
 }
