@@ -7,7 +7,8 @@
 //! gets no patch, and a lower tolerance everywhere adds patches to stretches
 //! that are straight but for sampling noise. So the finer layout is tried
 //! after the refine, as a candidate: KSA at a `FINER` fraction of the
-//! tolerance, its patches that fall where the design has none added to the
+//! tolerance, its patches (or the part of each that the design's patches
+//! leave free, if at least the shortest patch long) added to the
 //! design, their circumferential positions brought into the design's frame
 //! (KSA measures X from its own first patch) by the patches the two
 //! layouts share. The candidate is refined like the design, and kept only
@@ -58,13 +59,15 @@ pub struct LayoutTrial {
     pub chosen: bool,
 }
 
-/// The design with the finer layout's patches added where it has none, or
-/// none when the finer layout adds nothing.
+/// The design with the finer layout's patches added where it has none (the
+/// free part of each, [`free_part`]: at least `h_min_mm` long), or none
+/// when the finer layout adds nothing.
 pub fn with_gentle_bends(
     design: &Design,
     target: &Curve,
     kappa_tol: f64,
     params: &KsaParams,
+    h_min_mm: f64,
 ) -> Option<Design> {
     // One analysis for the tolerance and the marking, with KSA's scheme:
     // the tolerance is judged on the curvature KSA marks by.
@@ -85,10 +88,10 @@ pub fn with_gentle_bends(
     let offset = frame_offset(&design.patches, &candidates, circumference);
     let added: Vec<Patch> = candidates
         .iter()
-        .filter(|c| !design.patches.iter().any(|p| overlap(p, c)))
+        .filter_map(|c| free_part(c, &design.patches, h_min_mm))
         .map(|c| Patch {
             x_mm: (c.x_mm + offset).rem_euclid(circumference),
-            ..*c
+            ..c
         })
         .collect();
     if added.is_empty() {
@@ -124,6 +127,45 @@ pub fn finer_tolerance(target: &Curve, curvature: &[f64], kappa_tol: f64) -> f64
 /// of its length (RMS).
 fn is_curved(curve: &Curve) -> bool {
     curve.off_line_and_plane().0.sqrt() > CURVED * curve.length()
+}
+
+/// The part of `candidate`'s axial span that `design`'s patches leave free
+/// (each kept `CLEARANCE_MM` away), as a patch: the candidate itself where
+/// none comes near it; else its longest free stretch, the candidate's
+/// other dimensions kept, if that is at least `h_min_mm` long; else none.
+/// A refine moves patches into the gentle bends around them, so a bend
+/// the design half covers still gets a patch on its other half.
+fn free_part(candidate: &Patch, design: &[Patch], h_min_mm: f64) -> Option<Patch> {
+    let (low, high) = span(candidate, 0.0);
+    let mut blocked: Vec<(f64, f64)> = (design.iter())
+        .filter(|p| overlap(p, candidate))
+        .map(|p| span(p, CLEARANCE_MM))
+        .collect();
+    if blocked.is_empty() {
+        return Some(*candidate);
+    }
+    blocked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // The free stretches between the blocked spans, within the candidate's.
+    let (mut from, mut longest) = (low, (low, low));
+    for (start, end) in blocked.into_iter().chain([(high, high)]) {
+        let to = start.min(high);
+        if to - from > longest.1 - longest.0 {
+            longest = (from, to);
+        }
+        from = from.max(end);
+    }
+    let height = longest.1 - longest.0;
+    (height >= h_min_mm).then(|| Patch {
+        y_mm: 0.5 * (longest.0 + longest.1),
+        h_mm: height,
+        ..*candidate
+    })
+}
+
+/// A patch's axial span, widened by `margin` at both ends.
+fn span(patch: &Patch, margin: f64) -> (f64, f64) {
+    let half = 0.5 * patch.h_mm + margin;
+    (patch.y_mm - half, patch.y_mm + half)
 }
 
 /// Whether two patches' axial spans come within `CLEARANCE_MM`.

@@ -49,12 +49,37 @@ fn a_gentle_arc_gets_patches_where_the_design_has_none() {
     let arc = arc(150.0, 180.0);
     let empty = balloon(300.0, vec![]);
     let params = trains();
-    let finer = with_gentle_bends(&empty, &arc, 0.01, &params).unwrap();
+    let finer = with_gentle_bends(&empty, &arc, 0.01, &params, 10.0).unwrap();
     assert!(finer.patches.len() >= 10, "{:?}", finer.patches);
     assert!(finer.patches.iter().all(|p| p.h_mm <= 30.0 + 1e-9));
     // A design that already covers the whole balloon gets nothing more.
     let covered = balloon(300.0, vec![patch(0.0, 150.0, 300.0)]);
-    assert_eq!(with_gentle_bends(&covered, &arc, 0.01, &params), None);
+    assert_eq!(with_gentle_bends(&covered, &arc, 0.01, &params, 10.0), None);
+}
+
+/// A candidate no patch comes near is added whole; one a patch half covers
+/// keeps its longest free stretch (1 mm clear of the patches), if that is
+/// at least the shortest patch long; one covered but for slivers is not.
+#[test]
+fn a_half_covered_bend_gets_a_patch_on_its_free_part() {
+    let candidate = Patch {
+        w_mm: 2.0,
+        theta_deg: 10.0,
+        ..patch(3.0, 150.0, 20.0)
+    };
+    let far = [patch(0.0, 100.0, 20.0)];
+    assert_eq!(free_part(&candidate, &far, 10.0), Some(candidate));
+    // A patch over 130–145 leaves 146–160 free: 14 mm about 153.
+    let below = [patch(0.0, 137.5, 15.0), patch(0.0, 100.0, 20.0)];
+    let part = free_part(&candidate, &below, 10.0).unwrap();
+    assert!((part.y_mm - 153.0).abs() < 1e-9, "{part:?}");
+    assert!((part.h_mm - 14.0).abs() < 1e-9, "{part:?}");
+    assert_eq!((part.x_mm, part.w_mm, part.theta_deg), (3.0, 2.0, 10.0));
+    // Two patches, over 140–146 and 155–170: 147–154 (7 mm) is the longest.
+    let both = [patch(0.0, 143.0, 6.0), patch(0.0, 162.5, 15.0)];
+    assert_eq!(free_part(&candidate, &both, 10.0), None);
+    let part = free_part(&candidate, &both, 5.0).unwrap();
+    assert!((part.y_mm - 150.5).abs() < 1e-9 && (part.h_mm - 7.0).abs() < 1e-9);
 }
 
 #[test]
@@ -91,7 +116,7 @@ fn a_very_gentle_arc_gets_patches_and_a_noisy_line_does_not_lower_the_tolerance(
         "{tolerance}"
     );
     let empty = balloon(150.0, vec![]);
-    let finer = with_gentle_bends(&empty, &arc, 0.01, &trains()).unwrap();
+    let finer = with_gentle_bends(&empty, &arc, 0.01, &trains(), 10.0).unwrap();
     assert!(finer.patches.len() >= 4, "{:?}", finer.patches);
     let line = Preset::from_name("line", serde_json::json!({"length_mm": 300}))
         .unwrap()

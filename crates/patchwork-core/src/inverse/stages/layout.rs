@@ -193,6 +193,7 @@ fn candidates(run: &Run<'_>) -> Vec<Candidate> {
         setup.target,
         setup.tuning.kappa_tol,
         &ksa_params(setup),
+        setup.settings.bounds.h_min_mm,
     ) else {
         return vec![];
     };
