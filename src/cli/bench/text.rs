@@ -128,7 +128,8 @@ pub fn known_limits(curves: &[Row]) -> String {
          input.\n\
          - **The layout** is KSA's (trains of patches where a bend is longer \
          than one patch), plus a trial of patches on gentle bends (however \
-         gentle, on a curved target) and, while the error stays above 1 % \
+         gentle, on a curved target; on the part of a bend the refined \
+         design's patches leave free) and, while the error stays above 1 % \
          with patches at their smallest, up to three trials each taking one \
          out: the search does not insert, split or merge patches. Round trips \
          match the shape with fewer patches than the truth.\n\

@@ -155,7 +155,7 @@ fn free_part(candidate: &Patch, design: &[Patch], h_min_mm: f64) -> Option<Patch
         from = from.max(end);
     }
     let height = longest.1 - longest.0;
-    (height >= h_min_mm).then(|| Patch {
+    (height >= h_min_mm).then_some(Patch {
         y_mm: 0.5 * (longest.0 + longest.1),
         h_mm: height,
         ..*candidate
