@@ -132,7 +132,8 @@ pub fn known_limits(curves: &[Row]) -> String {
          design's patches leave free) and, while the error stays above 1 % \
          with patches at their smallest, up to three trials each taking one \
          out: the search does not insert, split or merge patches. Round trips \
-         match the shape with fewer patches than the truth.\n\
+         match the shape with layouts of their own, not the truth's: most \
+         with fewer patches than the truth, some with more.\n\
          - **Planar targets get planar designs** (Θ = 0 on two opposite \
          lines); a little twist sometimes places bends better, which \
          `--tuning '{{\"planar_designs\": false}}'` allows.\n\
