@@ -39,7 +39,7 @@ pub fn file_name(name: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use patchwork_core::curve::{Curve, Point};
+    use patchwork_core::curve::{Curve, Point, Units, read_curve};
 
     #[test]
     fn a_case_name_becomes_a_plain_file_name() {
@@ -57,7 +57,8 @@ mod tests {
         );
     }
 
-    /// The written points read back to the same numbers, bit for bit.
+    /// The written points read back, through the reader `patchwork design`
+    /// uses, to the same numbers, bit for bit.
     #[test]
     fn a_written_curve_reads_back_exactly() {
         let points: Vec<Point> = (0..5)
@@ -74,9 +75,10 @@ mod tests {
             clean: None,
         };
         write_curves(&dir, &[target]).unwrap();
+        // Read back as `patchwork design` reads a curve file.
         let text = std::fs::read_to_string(dir.join("a-case-one.csv")).unwrap();
-        let read: Vec<Vec<f64>> = (text.lines().skip(1))
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        let read: Vec<Vec<f64>> = (read_curve(&text, Units::Mm).unwrap().points().iter())
+            .map(|p| vec![p.x, p.y, p.z])
             .collect();
         std::fs::remove_dir_all(&dir).unwrap();
         for (p, r) in points.iter().zip(&read) {

@@ -38,13 +38,14 @@ const REFERENCE_MESH: MeshSpec = MeshSpec {
 
 /// The curves of `which` that `--curves` names (all when it names none),
 /// each under the settings `keep` keeps, measured in order at seeds
-/// 1..=`--runs`.
+/// 1..=`--runs`; the curves first written to `curves_to` where given.
 pub fn measure_suite(
     which: Suite,
     keep: impl Fn(&Setting) -> bool,
     args: &BenchArgs,
+    curves_to: Option<&Path>,
 ) -> Result<Vec<Row>> {
-    measure_at_seeds(which, keep, args, 1..=args.runs as u64, None)
+    measure_at_seeds(which, keep, args, 1..=args.runs as u64, curves_to)
 }
 
 /// [`measure_suite`] at `seeds`, first writing the curves it designs to

@@ -33,7 +33,7 @@ use patchwork_core::inverse::{Plan, UserSettings};
 
 pub use args::BenchArgs;
 use cases::Suite;
-use measure::measure_at_seeds;
+use measure::measure_suite;
 use render::{plot, table};
 
 use super::design_cmd::flag_error;
@@ -63,11 +63,10 @@ pub fn run(mut args: BenchArgs) -> Result<()> {
         std::fs::write(args.out.join("sure.md"), &text)?;
         return emit(&text);
     }
-    let rows = measure_at_seeds(
+    let rows = measure_suite(
         chosen,
         |s| args.settings.is_empty() || args.settings.iter().any(|f| f == s.name),
         &args,
-        1..=args.runs as u64,
         Some(&args.out.join("curves")),
     )?;
     let table = table(&rows, &command);

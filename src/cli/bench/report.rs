@@ -77,7 +77,7 @@ pub fn run(args: &BenchArgs, command: &str) -> Result<()> {
 
 /// The rows of the named presets over every curve of `which`.
 fn measured(which: Suite, settings: &[&str], args: &BenchArgs) -> Result<Vec<Row>> {
-    measure_suite(which, |s| settings.contains(&s.name), args)
+    measure_suite(which, |s| settings.contains(&s.name), args, None)
 }
 
 /// Median and worst (within reach) shape error and the median and longest
