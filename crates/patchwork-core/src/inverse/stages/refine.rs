@@ -100,7 +100,11 @@ impl Refine {
     }
 
     /// The mesh `refined`'s simulation is on: the correction's when the
-    /// refine ran corrected (it verifies there), else the run's.
+    /// refine ran corrected (it verifies there), else the verification
+    /// model's, which the refine solves on — not the mesh the run's design
+    /// was last verified on, which for a layout's refine is the
+    /// correction's even where that layout's first finer solve failed and
+    /// its refine ran uncorrected.
     pub(super) fn verified_on(&self, run: &Run<'_>, refined: &Refined) -> MeshSpec {
         match (self.correction, refined.summary) {
             (
@@ -110,7 +114,7 @@ impl Refine {
                     ..
                 }),
             ) => mesh,
-            _ => run.verified_on,
+            _ => run.setup.tuning.verify_mesh,
         }
     }
 }
