@@ -45,7 +45,9 @@ pub struct DesignArgs {
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct DesignFlags {
-    /// Preset: draft (about a minute), standard or fine (most accurate, slowest).
+    /// Preset: draft (the quickest: 2–64 s on two cores for the balloons of up to
+    /// 400 mm in BENCHMARKS.md; a longer balloon takes longer, every solve
+    /// growing with it), standard or fine (most accurate, slowest).
     #[arg(long, default_value = "standard")]
     fidelity: Fidelity,
     /// Random seed: the same seed reproduces the same design.
