@@ -45,9 +45,10 @@ pub struct DesignArgs {
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct DesignFlags {
-    /// Preset: draft (the quickest: 2–64 s on two cores for the balloons of up to
-    /// 400 mm in BENCHMARKS.md; a longer balloon takes longer, every solve
-    /// growing with it), standard or fine (most accurate, slowest).
+    /// Preset: draft (the quickest: 2–64 s on two cores for the curves in
+    /// BENCHMARKS.md, up to 1.4 m long on balloons of about 400 mm; a longer
+    /// curve takes longer, every solve growing with its balloon), standard or
+    /// fine (most accurate, slowest).
     #[arg(long, default_value = "standard")]
     fidelity: Fidelity,
     /// Random seed: the same seed reproduces the same design.

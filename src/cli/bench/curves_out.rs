@@ -75,14 +75,11 @@ mod tests {
             clean: None,
         };
         write_curves(&dir, &[target]).unwrap();
-        // Read back as `patchwork design` reads a curve file.
         let text = std::fs::read_to_string(dir.join("a-case-one.csv")).unwrap();
-        let read: Vec<Vec<f64>> = (read_curve(&text, Units::Mm).unwrap().points().iter())
-            .map(|p| vec![p.x, p.y, p.z])
-            .collect();
         std::fs::remove_dir_all(&dir).unwrap();
+        let read = read_curve(&text, Units::Mm).unwrap().points().to_vec();
         for (p, r) in points.iter().zip(&read) {
-            assert_eq!([p.x, p.y, p.z].as_slice(), r.as_slice());
+            assert_eq!([p.x, p.y, p.z], [r.x, r.y, r.z]);
         }
         assert_eq!(read.len(), points.len());
     }

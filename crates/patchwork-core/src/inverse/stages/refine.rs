@@ -101,10 +101,8 @@ impl Refine {
 
     /// The mesh `refined`'s simulation is on: the correction's when the
     /// refine ran corrected (it verifies there), else the verification
-    /// model's, which the refine solves on — not the mesh the run's design
-    /// was last verified on, which for a layout's refine is the
-    /// correction's even where that layout's first finer solve failed and
-    /// its refine ran uncorrected.
+    /// model's, which the refine solves on (whatever mesh the run's design
+    /// was verified on before).
     pub(super) fn verified_on(&self, run: &Run<'_>, refined: &Refined) -> MeshSpec {
         match (self.correction, refined.summary) {
             (
